@@ -1,0 +1,1 @@
+//! I/O layer of csm (work in progress).

@@ -1,0 +1,182 @@
+//! Dense storage of nodes, elements and conditions, with the external ids beside it.
+
+use std::collections::HashMap;
+
+use csm_geometry::GeometryKind;
+use csm_geometry::math::Point;
+
+use crate::{Flags, NodeIdx, PropertiesId};
+
+/// The nodes of a model part, structure-of-arrays: index `i` of every column is node
+/// `NodeIdx(i)`.
+#[derive(Debug, Clone, Default)]
+pub struct Nodes {
+    pub(crate) ids: Vec<u32>,
+    pub(crate) initial: Vec<Point>,
+    pub(crate) coordinates: Vec<Point>,
+    pub(crate) flags: Vec<Flags>,
+    pub(crate) by_id: HashMap<u32, NodeIdx>,
+}
+
+impl Nodes {
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.ids.len()
+    }
+
+    /// True if there is no node.
+    pub fn is_empty(&self) -> bool {
+        self.ids.is_empty()
+    }
+
+    /// External ids, by index.
+    pub fn ids(&self) -> &[u32] {
+        &self.ids
+    }
+
+    /// Current coordinates, by index.
+    pub fn coordinates(&self) -> &[Point] {
+        &self.coordinates
+    }
+
+    /// Current coordinates, mutable (the initial coordinates are not touched).
+    pub fn coordinates_mut(&mut self) -> &mut [Point] {
+        &mut self.coordinates
+    }
+
+    /// Initial (reference) coordinates, as read from the file.
+    pub fn initial_coordinates(&self) -> &[Point] {
+        &self.initial
+    }
+
+    /// Tri-state flags, by index.
+    pub fn flags(&self) -> &[Flags] {
+        &self.flags
+    }
+
+    /// Tri-state flags, mutable.
+    pub fn flags_mut(&mut self) -> &mut [Flags] {
+        &mut self.flags
+    }
+
+    /// The dense index of the node with external id `id`.
+    pub fn index_of(&self, id: u32) -> Option<NodeIdx> {
+        self.by_id.get(&id).copied()
+    }
+}
+
+/// Elements or conditions of a model part, structure-of-arrays: geometry kind, connectivity
+/// (dense node indices, in the geometry's node order), properties and flags per entity.
+#[derive(Debug, Clone, Default)]
+pub struct Entities {
+    pub(crate) ids: Vec<u32>,
+    pub(crate) kinds: Vec<GeometryKind>,
+    pub(crate) names: Vec<u16>,
+    pub(crate) name_table: Vec<String>,
+    pub(crate) offsets: Vec<u32>,
+    pub(crate) connectivity: Vec<NodeIdx>,
+    pub(crate) properties: Vec<PropertiesId>,
+    pub(crate) flags: Vec<Flags>,
+    pub(crate) by_id: HashMap<u32, u32>,
+}
+
+impl Entities {
+    /// Number of entities.
+    pub fn len(&self) -> usize {
+        self.ids.len()
+    }
+
+    /// True if there is none.
+    pub fn is_empty(&self) -> bool {
+        self.ids.is_empty()
+    }
+
+    /// External ids, by index.
+    pub fn ids(&self) -> &[u32] {
+        &self.ids
+    }
+
+    /// Geometry kind of entity `i`.
+    pub fn kind(&self, i: usize) -> GeometryKind {
+        self.kinds[i]
+    }
+
+    /// Geometry kinds, by index.
+    pub fn kinds(&self) -> &[GeometryKind] {
+        &self.kinds
+    }
+
+    /// The Kratos name the entity was created with (e.g. `SurfaceCondition3D3N`), or `""`.
+    pub fn name(&self, i: usize) -> &str {
+        &self.name_table[self.names[i] as usize]
+    }
+
+    /// The nodes of entity `i`, in geometry order.
+    pub fn nodes(&self, i: usize) -> &[NodeIdx] {
+        let start = if i == 0 { 0 } else { self.offsets[i - 1] as usize };
+        &self.connectivity[start..self.offsets[i] as usize]
+    }
+
+    /// Reverses the node order of entity `i` (Kratos `std::reverse` of the geometry's nodes,
+    /// used to invert normals).
+    pub fn reverse_nodes(&mut self, i: usize) {
+        let start = if i == 0 { 0 } else { self.offsets[i - 1] as usize };
+        self.connectivity[start..self.offsets[i] as usize].reverse();
+    }
+
+    /// Properties id of entity `i`.
+    pub fn properties(&self, i: usize) -> PropertiesId {
+        self.properties[i]
+    }
+
+    /// Sets the properties id of entity `i`.
+    pub fn set_properties(&mut self, i: usize, id: PropertiesId) {
+        self.properties[i] = id;
+    }
+
+    /// Tri-state flags, by index.
+    pub fn flags(&self) -> &[Flags] {
+        &self.flags
+    }
+
+    /// Tri-state flags, mutable.
+    pub fn flags_mut(&mut self) -> &mut [Flags] {
+        &mut self.flags
+    }
+
+    /// The dense index of the entity with external id `id`.
+    pub fn index_of(&self, id: u32) -> Option<usize> {
+        self.by_id.get(&id).map(|&i| i as usize)
+    }
+
+    /// The largest external id, or 0 when empty (Kratos `GetMaximumConditionsIds`).
+    pub fn max_id(&self) -> u32 {
+        self.ids.iter().copied().max().unwrap_or(0)
+    }
+
+    pub(crate) fn push(
+        &mut self,
+        id: u32,
+        kind: GeometryKind,
+        name: &str,
+        nodes: &[NodeIdx],
+        properties: PropertiesId,
+    ) {
+        let name_idx = match self.name_table.iter().position(|n| n == name) {
+            Some(i) => i,
+            None => {
+                self.name_table.push(name.to_owned());
+                self.name_table.len() - 1
+            }
+        };
+        self.by_id.insert(id, self.ids.len() as u32);
+        self.ids.push(id);
+        self.kinds.push(kind);
+        self.names.push(name_idx as u16);
+        self.connectivity.extend_from_slice(nodes);
+        self.offsets.push(self.connectivity.len() as u32);
+        self.properties.push(properties);
+        self.flags.push(Flags::new());
+    }
+
+}

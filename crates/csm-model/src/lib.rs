@@ -1,0 +1,40 @@
+//! Model layer of csm: the [`ModelPart`] every stage reads and writes, in dense storage with
+//! the external (file) ids kept beside it.
+//!
+//! Main types: [`ModelPart`] (nodes, elements, conditions, properties, process info and a tree
+//! of sub model parts addressed by full path), [`Flags`] (Kratos' tri-state flags: undefined /
+//! true / false), [`NodalData`] (historical variables with a buffer of two steps and plain
+//! ones), [`IndexMap`] (the per-condition map of candidate masters).
+//!
+//! **Architecture Invariant:** `csm-model` depends only on `csm-geometry`. It knows nothing of
+//! files, trees or the search: readers (`csm-io`) fill it, stages (`csm-search`,
+//! `csm-activation`) compute on it.
+//!
+//! **Architecture Invariant:** internal indices (`NodeIdx`, `ConditionIdx`, …) are dense and
+//! never leave the process; external ids (`NodeId`, `ConditionId`, …) are what files and
+//! outputs show. Conversions happen in [`ModelPart`] only.
+#![deny(missing_docs)]
+
+mod entities;
+mod error;
+mod flags;
+mod ids;
+mod index_map;
+mod model_part;
+mod nodal_data;
+mod parts;
+mod process_info;
+mod properties;
+
+pub use entities::{Entities, Nodes};
+pub use error::{EntityKind, Error, ErrorKind};
+pub use flags::{Flag, Flags};
+pub use ids::{
+    ConditionId, ConditionIdx, ElementId, ElementIdx, NodeId, NodeIdx, PartIdx, PropertiesId,
+};
+pub use index_map::IndexMap;
+pub use model_part::ModelPart;
+pub use nodal_data::{NodalData, ScalarVar, VectorVar};
+pub use parts::SubModelPart;
+pub use process_info::ProcessInfo;
+pub use properties::{Properties, PropertyValue};

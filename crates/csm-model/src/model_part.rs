@@ -1,0 +1,336 @@
+//! The model part: nodes, elements, conditions, properties, process info, sub model parts
+//! and nodal data.
+
+use std::collections::{BTreeMap, HashMap};
+
+use csm_geometry::GeometryKind;
+use csm_geometry::math::Point;
+
+use crate::error::{EntityKind, Error, ErrorKind};
+use crate::parts::{SubModelPart, insert_sorted};
+use crate::{
+    ConditionId, ConditionIdx, ElementId, ElementIdx, Entities, IndexMap, NodalData, NodeId,
+    NodeIdx, Nodes, PartIdx, ProcessInfo, Properties, PropertiesId,
+};
+
+/// The root model part (Kratos `ModelPart`, e.g. `Structure`): dense storage of every
+/// entity, with the sub model parts as index sets into it.
+#[derive(Debug, Clone, Default)]
+pub struct ModelPart {
+    name: String,
+    nodes: Nodes,
+    elements: Entities,
+    conditions: Entities,
+    properties: BTreeMap<PropertiesId, Properties>,
+    process_info: ProcessInfo,
+    parts: Vec<SubModelPart>,
+    part_by_path: HashMap<String, PartIdx>,
+    roots: Vec<PartIdx>,
+    nodal_data: NodalData,
+    index_maps: Vec<IndexMap>,
+}
+
+impl ModelPart {
+    /// An empty model part called `name`.
+    pub fn new(name: &str) -> ModelPart {
+        ModelPart { name: name.to_owned(), ..ModelPart::default() }
+    }
+
+    /// The name of the root model part.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The nodes.
+    pub fn nodes(&self) -> &Nodes {
+        &self.nodes
+    }
+
+    /// The nodes, mutable (coordinates and flags).
+    pub fn nodes_mut(&mut self) -> &mut Nodes {
+        &mut self.nodes
+    }
+
+    /// The elements.
+    pub fn elements(&self) -> &Entities {
+        &self.elements
+    }
+
+    /// The elements, mutable (flags, node order, properties).
+    pub fn elements_mut(&mut self) -> &mut Entities {
+        &mut self.elements
+    }
+
+    /// The conditions.
+    pub fn conditions(&self) -> &Entities {
+        &self.conditions
+    }
+
+    /// The conditions, mutable (flags, node order, properties).
+    pub fn conditions_mut(&mut self) -> &mut Entities {
+        &mut self.conditions
+    }
+
+    /// The properties blocks, by id.
+    pub fn properties(&self) -> &BTreeMap<PropertiesId, Properties> {
+        &self.properties
+    }
+
+    /// The properties blocks, mutable.
+    pub fn properties_mut(&mut self) -> &mut BTreeMap<PropertiesId, Properties> {
+        &mut self.properties
+    }
+
+    /// The process info.
+    pub fn process_info(&self) -> &ProcessInfo {
+        &self.process_info
+    }
+
+    /// The process info, mutable.
+    pub fn process_info_mut(&mut self) -> &mut ProcessInfo {
+        &mut self.process_info
+    }
+
+    /// Nodal variables.
+    pub fn nodal_data(&self) -> &NodalData {
+        &self.nodal_data
+    }
+
+    /// Nodal variables, mutable.
+    pub fn nodal_data_mut(&mut self) -> &mut NodalData {
+        &mut self.nodal_data
+    }
+
+    /// The `INDEX_MAP` of condition `c`.
+    pub fn index_map(&self, c: ConditionIdx) -> &IndexMap {
+        &self.index_maps[c.index()]
+    }
+
+    /// The `INDEX_MAP` of condition `c`, mutable.
+    pub fn index_map_mut(&mut self, c: ConditionIdx) -> &mut IndexMap {
+        &mut self.index_maps[c.index()]
+    }
+
+    /// Adds a node with external id `id`. Errors on a duplicate id or a non-finite
+    /// coordinate.
+    pub fn add_node(&mut self, id: NodeId, position: Point) -> Result<NodeIdx, Error> {
+        if self.nodes.by_id.contains_key(&id.0) {
+            return Err(ErrorKind::DuplicateId { entity: EntityKind::Node, id: id.0 }.into());
+        }
+        if !position.iter().all(|x| x.is_finite()) {
+            return Err(ErrorKind::NonFiniteCoordinate { node: id.0 }.into());
+        }
+        let idx = NodeIdx(self.nodes.ids.len() as u32);
+        self.nodes.by_id.insert(id.0, idx);
+        self.nodes.ids.push(id.0);
+        self.nodes.initial.push(position);
+        self.nodes.coordinates.push(position);
+        self.nodes.flags.push(Default::default());
+        self.nodal_data.resize(self.nodes.len());
+        Ok(idx)
+    }
+
+    /// Adds an element. `name` is the Kratos name it was read as (may be empty). Errors on a
+    /// duplicate id, a missing node or a node count that does not fit `kind`.
+    pub fn add_element(
+        &mut self,
+        id: ElementId,
+        kind: GeometryKind,
+        name: &str,
+        nodes: &[NodeId],
+        properties: PropertiesId,
+    ) -> Result<ElementIdx, Error> {
+        let idx = ElementIdx(self.elements.len() as u32);
+        let conn = self.resolve(EntityKind::Element, id.0, kind, nodes)?;
+        if self.elements.by_id.contains_key(&id.0) {
+            return Err(ErrorKind::DuplicateId { entity: EntityKind::Element, id: id.0 }.into());
+        }
+        self.elements.push(id.0, kind, name, &conn, properties);
+        Ok(idx)
+    }
+
+    /// Adds a condition. As [`ModelPart::add_element`].
+    pub fn add_condition(
+        &mut self,
+        id: ConditionId,
+        kind: GeometryKind,
+        name: &str,
+        nodes: &[NodeId],
+        properties: PropertiesId,
+    ) -> Result<ConditionIdx, Error> {
+        let idx = ConditionIdx(self.conditions.len() as u32);
+        let conn = self.resolve(EntityKind::Condition, id.0, kind, nodes)?;
+        if self.conditions.by_id.contains_key(&id.0) {
+            return Err(
+                ErrorKind::DuplicateId { entity: EntityKind::Condition, id: id.0 }.into()
+            );
+        }
+        self.conditions.push(id.0, kind, name, &conn, properties);
+        self.index_maps.push(IndexMap::new());
+        Ok(idx)
+    }
+
+    fn resolve(
+        &self,
+        entity: EntityKind,
+        id: u32,
+        kind: GeometryKind,
+        nodes: &[NodeId],
+    ) -> Result<Vec<NodeIdx>, Error> {
+        if nodes.len() != kind.n_nodes() {
+            return Err(ErrorKind::WrongNodeCount {
+                entity,
+                id,
+                expected: kind.n_nodes(),
+                found: nodes.len(),
+            }
+            .into());
+        }
+        nodes
+            .iter()
+            .map(|n| {
+                self.nodes.index_of(n.0).ok_or_else(|| {
+                    Error::from(ErrorKind::MissingNode { entity, id, node: n.0 })
+                })
+            })
+            .collect()
+    }
+
+    /// Adds a properties block; errors if its id exists.
+    pub fn add_properties(&mut self, properties: Properties) -> Result<(), Error> {
+        if self.properties.contains_key(&properties.id) {
+            return Err(ErrorKind::DuplicateId {
+                entity: EntityKind::Properties,
+                id: properties.id.0,
+            }
+            .into());
+        }
+        self.properties.insert(properties.id, properties);
+        Ok(())
+    }
+
+    /// Adds a properties block with no value if `id` does not exist yet.
+    pub fn ensure_properties(&mut self, id: PropertiesId) {
+        self.properties.entry(id).or_insert_with(|| Properties::new(id));
+    }
+
+    /// The sub model parts, by index.
+    pub fn parts(&self) -> &[SubModelPart] {
+        &self.parts
+    }
+
+    /// The sub model part `idx`.
+    pub fn part(&self, idx: PartIdx) -> &SubModelPart {
+        &self.parts[idx.index()]
+    }
+
+    /// The parts directly under the root, in creation order.
+    pub fn root_parts(&self) -> &[PartIdx] {
+        &self.roots
+    }
+
+    /// The part at full path `path` (segments separated by `.` or `/`).
+    pub fn find_part(&self, path: &str) -> Option<PartIdx> {
+        self.part_by_path.get(&normalize_path(path)).copied()
+    }
+
+    /// The part at `path`, or [`ErrorKind::UnknownPart`].
+    pub fn get_part(&self, path: &str) -> Result<PartIdx, Error> {
+        self.find_part(path).ok_or_else(|| ErrorKind::UnknownPart(path.to_owned()).into())
+    }
+
+    /// Full paths of every part, sorted.
+    pub fn part_paths(&self) -> Vec<&str> {
+        let mut v: Vec<&str> = self.parts.iter().map(|p| p.path.as_str()).collect();
+        v.sort_unstable();
+        v
+    }
+
+    /// Returns the part at full path `path`, creating it and any missing ancestor.
+    pub fn create_part(&mut self, path: &str) -> Result<PartIdx, Error> {
+        let normalized = normalize_path(path);
+        if normalized.is_empty() || normalized.split('.').any(|s| s.is_empty()) {
+            return Err(ErrorKind::InvalidPartName(path.to_owned()).into());
+        }
+        let mut parent: Option<PartIdx> = None;
+        let mut current = String::new();
+        for segment in normalized.split('.') {
+            if !current.is_empty() {
+                current.push('.');
+            }
+            current.push_str(segment);
+            let idx = match self.part_by_path.get(&current) {
+                Some(&idx) => idx,
+                None => {
+                    let idx = PartIdx(self.parts.len() as u32);
+                    self.parts.push(SubModelPart {
+                        name: segment.to_owned(),
+                        path: current.clone(),
+                        parent,
+                        ..SubModelPart::default()
+                    });
+                    self.part_by_path.insert(current.clone(), idx);
+                    match parent {
+                        Some(p) => self.parts[p.index()].children.push(idx),
+                        None => self.roots.push(idx),
+                    }
+                    idx
+                }
+            };
+            parent = Some(idx);
+        }
+        // The loop ran at least once: `normalized` is non-empty.
+        parent.ok_or_else(|| ErrorKind::InvalidPartName(path.to_owned()).into())
+    }
+
+    /// Adds nodes to `part` and its ancestors.
+    pub fn add_nodes_to_part(&mut self, part: PartIdx, nodes: &[NodeIdx]) {
+        let mut p = Some(part);
+        while let Some(idx) = p {
+            let sp = &mut self.parts[idx.index()];
+            for &n in nodes {
+                insert_sorted(&mut sp.nodes, n);
+            }
+            p = sp.parent;
+        }
+    }
+
+    /// Adds elements to `part` and its ancestors. Only the elements are added, as in Kratos'
+    /// mdpa reader; add their nodes with [`ModelPart::add_nodes_to_part`].
+    pub fn add_elements_to_part(&mut self, part: PartIdx, elements: &[ElementIdx]) {
+        let mut p = Some(part);
+        while let Some(idx) = p {
+            let sp = &mut self.parts[idx.index()];
+            for &e in elements {
+                insert_sorted(&mut sp.elements, e);
+            }
+            p = sp.parent;
+        }
+    }
+
+    /// Adds conditions to `part` and its ancestors.
+    pub fn add_conditions_to_part(&mut self, part: PartIdx, conditions: &[ConditionIdx]) {
+        let mut p = Some(part);
+        while let Some(idx) = p {
+            let sp = &mut self.parts[idx.index()];
+            for &c in conditions {
+                insert_sorted(&mut sp.conditions, c);
+            }
+            p = sp.parent;
+        }
+    }
+
+    /// The coordinates of the nodes of `nodes`, gathered into `out` (cleared first).
+    pub fn gather_points(&self, nodes: &[NodeIdx], out: &mut Vec<Point>) {
+        out.clear();
+        out.extend(nodes.iter().map(|n| self.nodes.coordinates[n.index()]));
+    }
+}
+
+/// Accepts `/` as a separator too; returns the `.`-separated form.
+fn normalize_path(path: &str) -> String {
+    path.trim().replace('/', ".")
+}
+
+#[cfg(test)]
+mod tests;

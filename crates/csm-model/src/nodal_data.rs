@@ -1,0 +1,191 @@
+//! Nodal variables: historical ones with a buffer of two steps (Kratos solution-step
+//! variables) and plain ones (Kratos non-historical values).
+//!
+//! Storage is structure-of-arrays: one column per variable and buffer step, indexed by
+//! [`crate::NodeIdx`]. A variable exists only once added ([`NodalData::add_scalar`],
+//! [`NodalData::add_vector`]), as a Kratos model part has only the variables it was given
+//! (`HasNodalSolutionStepVariable(VELOCITY)` decides whether dynamic search runs).
+
+use std::collections::BTreeMap;
+
+use csm_geometry::math::{Real, Vector};
+
+/// Scalar nodal variables the pipeline uses, named as in Kratos.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ScalarVar {
+    /// `WEIGHTED_GAP` (historical).
+    WeightedGap,
+    /// `LAGRANGE_MULTIPLIER_CONTACT_PRESSURE` (historical).
+    LagrangeMultiplierContactPressure,
+    /// `SCALAR_LAGRANGE_MULTIPLIER` (historical).
+    ScalarLagrangeMultiplier,
+    /// `NODAL_H` (historical).
+    NodalH,
+    /// `NORMAL_GAP` (plain).
+    NormalGap,
+    /// `NODAL_AREA` (plain).
+    NodalArea,
+}
+
+/// Vector nodal variables the pipeline uses, named as in Kratos.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum VectorVar {
+    /// `DISPLACEMENT` (historical).
+    Displacement,
+    /// `VELOCITY` (historical).
+    Velocity,
+    /// `ACCELERATION` (historical).
+    Acceleration,
+    /// `NORMAL` (historical).
+    Normal,
+    /// `VECTOR_LAGRANGE_MULTIPLIER` (historical).
+    VectorLagrangeMultiplier,
+    /// `DELTA_COORDINATES` (plain).
+    DeltaCoordinates,
+    /// `AUXILIAR_COORDINATES` (plain).
+    AuxiliarCoordinates,
+}
+
+impl ScalarVar {
+    /// True for variables Kratos keeps in the solution-step buffer.
+    pub fn is_historical(self) -> bool {
+        !matches!(self, ScalarVar::NormalGap | ScalarVar::NodalArea)
+    }
+
+    /// Kratos' name.
+    pub fn name(self) -> &'static str {
+        match self {
+            ScalarVar::WeightedGap => "WEIGHTED_GAP",
+            ScalarVar::LagrangeMultiplierContactPressure => "LAGRANGE_MULTIPLIER_CONTACT_PRESSURE",
+            ScalarVar::ScalarLagrangeMultiplier => "SCALAR_LAGRANGE_MULTIPLIER",
+            ScalarVar::NodalH => "NODAL_H",
+            ScalarVar::NormalGap => "NORMAL_GAP",
+            ScalarVar::NodalArea => "NODAL_AREA",
+        }
+    }
+}
+
+impl VectorVar {
+    /// True for variables Kratos keeps in the solution-step buffer.
+    pub fn is_historical(self) -> bool {
+        !matches!(self, VectorVar::DeltaCoordinates | VectorVar::AuxiliarCoordinates)
+    }
+
+    /// Kratos' name.
+    pub fn name(self) -> &'static str {
+        match self {
+            VectorVar::Displacement => "DISPLACEMENT",
+            VectorVar::Velocity => "VELOCITY",
+            VectorVar::Acceleration => "ACCELERATION",
+            VectorVar::Normal => "NORMAL",
+            VectorVar::VectorLagrangeMultiplier => "VECTOR_LAGRANGE_MULTIPLIER",
+            VectorVar::DeltaCoordinates => "DELTA_COORDINATES",
+            VectorVar::AuxiliarCoordinates => "AUXILIAR_COORDINATES",
+        }
+    }
+}
+
+/// The number of solution steps kept for historical variables (Kratos buffer size 2).
+pub const BUFFER_SIZE: usize = 2;
+
+/// The nodal variables of a model part. Step 0 is the current step, step 1 the previous.
+#[derive(Debug, Clone, Default)]
+pub struct NodalData {
+    n_nodes: usize,
+    scalars: BTreeMap<ScalarVar, Vec<Vec<Real>>>,
+    vectors: BTreeMap<VectorVar, Vec<Vec<Vector>>>,
+}
+
+impl NodalData {
+    fn steps_of(historical: bool) -> usize {
+        if historical { BUFFER_SIZE } else { 1 }
+    }
+
+    /// Adds `var` (zero on every node) if absent.
+    pub fn add_scalar(&mut self, var: ScalarVar) {
+        let n = self.n_nodes;
+        self.scalars
+            .entry(var)
+            .or_insert_with(|| vec![vec![0.0; n]; Self::steps_of(var.is_historical())]);
+    }
+
+    /// Adds `var` (zero on every node) if absent.
+    pub fn add_vector(&mut self, var: VectorVar) {
+        let n = self.n_nodes;
+        self.vectors
+            .entry(var)
+            .or_insert_with(|| vec![vec![Vector::zeros(); n]; Self::steps_of(var.is_historical())]);
+    }
+
+    /// True if `var` was added.
+    pub fn has_scalar(&self, var: ScalarVar) -> bool {
+        self.scalars.contains_key(&var)
+    }
+
+    /// True if `var` was added.
+    pub fn has_vector(&self, var: VectorVar) -> bool {
+        self.vectors.contains_key(&var)
+    }
+
+    /// The values of `var` at buffer step `step` (0 = current), by node index; `None` if the
+    /// variable is absent or the step is not kept.
+    pub fn scalar(&self, var: ScalarVar, step: usize) -> Option<&[Real]> {
+        self.scalars.get(&var)?.get(step).map(Vec::as_slice)
+    }
+
+    /// Mutable form of [`NodalData::scalar`].
+    pub fn scalar_mut(&mut self, var: ScalarVar, step: usize) -> Option<&mut [Real]> {
+        self.scalars.get_mut(&var)?.get_mut(step).map(Vec::as_mut_slice)
+    }
+
+    /// The values of `var` at buffer step `step` (0 = current), by node index.
+    pub fn vector(&self, var: VectorVar, step: usize) -> Option<&[Vector]> {
+        self.vectors.get(&var)?.get(step).map(Vec::as_slice)
+    }
+
+    /// Mutable form of [`NodalData::vector`].
+    pub fn vector_mut(&mut self, var: VectorVar, step: usize) -> Option<&mut [Vector]> {
+        self.vectors.get_mut(&var)?.get_mut(step).map(Vec::as_mut_slice)
+    }
+
+    /// Advances the buffer of every historical variable (Kratos `CloneSolutionStep`): the
+    /// previous step becomes a copy of the current one, and the current one keeps its values.
+    pub fn clone_solution_step(&mut self) {
+        for cols in self.scalars.values_mut() {
+            if cols.len() == BUFFER_SIZE {
+                let (cur, prev) = cols.split_at_mut(1);
+                prev[0].copy_from_slice(&cur[0]);
+            }
+        }
+        for cols in self.vectors.values_mut() {
+            if cols.len() == BUFFER_SIZE {
+                let (cur, prev) = cols.split_at_mut(1);
+                prev[0].copy_from_slice(&cur[0]);
+            }
+        }
+    }
+
+    /// The variables present, scalars then vectors, in declaration order.
+    pub fn variable_names(&self) -> Vec<&'static str> {
+        let mut v: Vec<&'static str> = self.scalars.keys().map(|k| k.name()).collect();
+        v.extend(self.vectors.keys().map(|k| k.name()));
+        v
+    }
+
+    pub(crate) fn resize(&mut self, n_nodes: usize) {
+        self.n_nodes = n_nodes;
+        for cols in self.scalars.values_mut() {
+            for c in cols {
+                c.resize(n_nodes, 0.0);
+            }
+        }
+        for cols in self.vectors.values_mut() {
+            for c in cols {
+                c.resize(n_nodes, Vector::zeros());
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,29 @@
+use super::*;
+
+#[test]
+fn historical_variables_keep_two_steps_and_plain_ones_one() {
+    let mut d = NodalData::default();
+    d.resize(3);
+    d.add_scalar(ScalarVar::WeightedGap);
+    d.add_scalar(ScalarVar::NormalGap);
+    assert!(d.scalar(ScalarVar::WeightedGap, 1).is_some());
+    assert!(d.scalar(ScalarVar::NormalGap, 1).is_none());
+    assert!(d.scalar(ScalarVar::NodalArea, 0).is_none(), "absent variable");
+
+    d.scalar_mut(ScalarVar::WeightedGap, 0).unwrap()[2] = 4.0;
+    d.clone_solution_step();
+    assert_eq!(d.scalar(ScalarVar::WeightedGap, 1).unwrap(), &[0.0, 0.0, 4.0]);
+    d.scalar_mut(ScalarVar::WeightedGap, 0).unwrap()[2] = 5.0;
+    assert_eq!(d.scalar(ScalarVar::WeightedGap, 0).unwrap()[2], 5.0);
+    assert_eq!(d.scalar(ScalarVar::WeightedGap, 1).unwrap()[2], 4.0);
+}
+
+#[test]
+fn columns_grow_with_the_nodes() {
+    let mut d = NodalData::default();
+    d.add_vector(VectorVar::Velocity);
+    d.resize(2);
+    assert_eq!(d.vector(VectorVar::Velocity, 0).unwrap().len(), 2);
+    assert_eq!(d.vector(VectorVar::Velocity, 1).unwrap().len(), 2);
+    assert!(!d.has_vector(VectorVar::Acceleration));
+}

@@ -1,0 +1,1 @@
+//! csm: finite-element contact search (work in progress).
