@@ -1,1 +1,29 @@
+//! Workspace-level integration tests: the `csm` binary as a user runs it.
 
+mod cli_info;
+mod kratos_conformance;
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+/// `../shared/data/kratos-tests/<name>` beside the clone (CI has it).
+pub fn kratos_mesh(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/kratos-tests").join(name)
+}
+
+/// `tests/data/<name>` in the repository.
+pub fn repo_mesh(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
+}
+
+/// Runs the `csm` binary with `args`.
+pub fn csm(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_csm")).args(args).output().expect("the csm binary runs")
+}
+
+/// A fresh scratch file path under the target directory's temp area.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("it");
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir.join(name)
+}

@@ -1,1 +1,114 @@
-fn main() {}
+//! Project automation for csm (`cargo xtask <command>`), in Rust rather than shell.
+//!
+//! - `cargo xtask ci`: exactly what CI runs: `cargo fmt --check`, `cargo clippy -D warnings`
+//!   over every target, and every test (insta snapshots fail when missing or changed).
+//! - `cargo xtask fixtures`: regenerates the Kratos reference fixtures under `tests/fixtures/`
+//!   by driving Kratos 10.4.4 (PyPI) with one thread through `tools/kratos_fixtures.py`. The
+//!   virtual environment is made in `target/kratos-venv` on first use (or set `KRATOS_PYTHON`
+//!   to a Python that has Kratos). CI never runs this: the fixtures are committed data.
+//! - `cargo xtask snapshots`: the snapshot tests alone, as CI runs them; review changes
+//!   locally with `cargo insta review` (`cargo install cargo-insta` once).
+//!
+//! The tidy checks (dependency direction, file docs) are `#[test]`s in `tidy.rs`, so a plain
+//! `cargo test` enforces them.
+
+use std::process::Command;
+
+use anyhow::{Context, Result, bail};
+
+#[cfg(test)]
+mod tidy;
+
+fn main() -> Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    match args.first().map(String::as_str) {
+        Some("ci") => ci(),
+        Some("snapshots") => snapshots(),
+        Some("fixtures") => fixtures(),
+        _ => {
+            eprintln!("usage: cargo xtask <ci|snapshots|fixtures>");
+            bail!("unknown or missing command")
+        }
+    }
+}
+
+/// Runs `cargo` with `args` in the workspace root; fails if it fails.
+fn cargo(args: &[&str], envs: &[(&str, &str)]) -> Result<()> {
+    eprintln!("$ cargo {}", args.join(" "));
+    let status = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned()))
+        .args(args)
+        .envs(envs.iter().copied())
+        .current_dir(workspace_root())
+        .status()
+        .with_context(|| format!("cannot run cargo {}", args.join(" ")))?;
+    if !status.success() {
+        bail!("cargo {} failed ({status})", args.join(" "));
+    }
+    Ok(())
+}
+
+fn workspace_root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map(std::path::Path::to_path_buf)
+        .unwrap_or_else(|| ".".into())
+}
+
+const TEST_ENV: [(&str, &str); 2] = [("CI", "true"), ("INSTA_UPDATE", "no")];
+
+fn ci() -> Result<()> {
+    cargo(&["fmt", "--all", "--", "--check"], &[])?;
+    cargo(&["clippy", "--workspace", "--all-targets", "--", "-D", "warnings"], &[])?;
+    cargo(&["test", "--workspace", "--all-targets"], &TEST_ENV)?;
+    eprintln!("xtask ci: all checks passed");
+    Ok(())
+}
+
+fn snapshots() -> Result<()> {
+    cargo(&["test", "--workspace", "--all-targets"], &TEST_ENV)
+}
+
+/// The Kratos wheels the fixtures are made with.
+const KRATOS_WHEELS: [&str; 4] = [
+    "KratosMultiphysics==10.4.4",
+    "KratosStructuralMechanicsApplication==10.4.4",
+    "KratosContactStructuralMechanicsApplication==10.4.4",
+    "KratosLinearSolversApplication==10.4.4",
+];
+
+fn run(program: &str, args: &[&str], envs: &[(&str, &str)]) -> Result<()> {
+    eprintln!("$ {program} {}", args.join(" "));
+    let status = Command::new(program)
+        .args(args)
+        .envs(envs.iter().copied())
+        .current_dir(workspace_root())
+        .status()
+        .with_context(|| format!("cannot run {program}"))?;
+    if !status.success() {
+        bail!("{program} {} failed ({status})", args.join(" "));
+    }
+    Ok(())
+}
+
+fn kratos_python() -> Result<String> {
+    if let Ok(python) = std::env::var("KRATOS_PYTHON") {
+        return Ok(python);
+    }
+    let venv = workspace_root().join("target/kratos-venv");
+    let python = venv.join("bin/python");
+    if !python.exists() {
+        let venv = venv.to_string_lossy().into_owned();
+        run("python3", &["-m", "venv", &venv], &[])?;
+        let python = python.to_string_lossy().into_owned();
+        let mut args = vec!["-m", "pip", "install", "--quiet"];
+        args.extend(KRATOS_WHEELS);
+        run(&python, &args, &[])?;
+    }
+    Ok(python.to_string_lossy().into_owned())
+}
+
+fn fixtures() -> Result<()> {
+    let python = kratos_python()?;
+    let env = [("OMP_NUM_THREADS", "1"), ("OMP_WAIT_POLICY", "passive")];
+    run(&python, &["tools/kratos_fixtures.py"], &env)
+}

@@ -113,14 +113,22 @@ impl Entities {
 
     /// The nodes of entity `i`, in geometry order.
     pub fn nodes(&self, i: usize) -> &[NodeIdx] {
-        let start = if i == 0 { 0 } else { self.offsets[i - 1] as usize };
+        let start = if i == 0 {
+            0
+        } else {
+            self.offsets[i - 1] as usize
+        };
         &self.connectivity[start..self.offsets[i] as usize]
     }
 
     /// Reverses the node order of entity `i` (Kratos `std::reverse` of the geometry's nodes,
     /// used to invert normals).
     pub fn reverse_nodes(&mut self, i: usize) {
-        let start = if i == 0 { 0 } else { self.offsets[i - 1] as usize };
+        let start = if i == 0 {
+            0
+        } else {
+            self.offsets[i - 1] as usize
+        };
         self.connectivity[start..self.offsets[i] as usize].reverse();
     }
 
@@ -178,5 +186,4 @@ impl Entities {
         self.properties.push(properties);
         self.flags.push(Flags::new());
     }
-
 }

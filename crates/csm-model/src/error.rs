@@ -113,10 +113,18 @@ impl fmt::Display for Error {
         match &self.kind {
             ErrorKind::DuplicateId { entity, id } => write!(f, "duplicate {entity} id {id}"),
             ErrorKind::MissingNode { entity, id, node } => {
-                write!(f, "{entity} {id} refers to node {node}, which does not exist")
+                write!(
+                    f,
+                    "{entity} {id} refers to node {node}, which does not exist"
+                )
             }
             ErrorKind::MissingEntity { entity, id } => write!(f, "{entity} {id} does not exist"),
-            ErrorKind::WrongNodeCount { entity, id, expected, found } => write!(
+            ErrorKind::WrongNodeCount {
+                entity,
+                id,
+                expected,
+                found,
+            } => write!(
                 f,
                 "{entity} {id} has {found} nodes, its geometry needs {expected}"
             ),

@@ -48,7 +48,10 @@ pub struct Flags {
 impl Flags {
     /// No flag defined.
     pub const fn new() -> Flags {
-        Flags { defined: Flag::empty(), values: Flag::empty() }
+        Flags {
+            defined: Flag::empty(),
+            values: Flag::empty(),
+        }
     }
 
     /// Defines `flag` and sets it to `value` (Kratos `Set(flag, value)`).

@@ -22,6 +22,8 @@ mod ids;
 mod index_map;
 mod model_part;
 mod nodal_data;
+mod nodal_h;
+// TEMP mod normals;
 mod parts;
 mod process_info;
 mod properties;
@@ -35,6 +37,8 @@ pub use ids::{
 pub use index_map::IndexMap;
 pub use model_part::ModelPart;
 pub use nodal_data::{NodalData, ScalarVar, VectorVar};
+pub use nodal_h::{NodalHMode, assign_nodal_h, compute_nodal_h};
+// TEMP pub use normals::{NormalsMode, compute_unit_normals};
 pub use parts::SubModelPart;
 pub use process_info::ProcessInfo;
 pub use properties::{Properties, PropertyValue};

@@ -4,7 +4,7 @@
 use std::collections::{BTreeMap, HashMap};
 
 use csm_geometry::GeometryKind;
-use csm_geometry::math::Point;
+use csm_geometry::math::{Point, Vector};
 
 use crate::error::{EntityKind, Error, ErrorKind};
 use crate::parts::{SubModelPart, insert_sorted};
@@ -28,12 +28,16 @@ pub struct ModelPart {
     roots: Vec<PartIdx>,
     nodal_data: NodalData,
     index_maps: Vec<IndexMap>,
+    condition_normals: Vec<Vector>,
 }
 
 impl ModelPart {
     /// An empty model part called `name`.
     pub fn new(name: &str) -> ModelPart {
-        ModelPart { name: name.to_owned(), ..ModelPart::default() }
+        ModelPart {
+            name: name.to_owned(),
+            ..ModelPart::default()
+        }
     }
 
     /// The name of the root model part.
@@ -111,11 +115,26 @@ impl ModelPart {
         &mut self.index_maps[c.index()]
     }
 
+    /// The non-historical `NORMAL` of every condition (unit normal at the centre), by
+    /// condition index; zero until computed (see [`crate::compute_unit_normals`]).
+    pub fn condition_normals(&self) -> &[Vector] {
+        &self.condition_normals
+    }
+
+    /// Mutable form of [`ModelPart::condition_normals`].
+    pub fn condition_normals_mut(&mut self) -> &mut [Vector] {
+        &mut self.condition_normals
+    }
+
     /// Adds a node with external id `id`. Errors on a duplicate id or a non-finite
     /// coordinate.
     pub fn add_node(&mut self, id: NodeId, position: Point) -> Result<NodeIdx, Error> {
         if self.nodes.by_id.contains_key(&id.0) {
-            return Err(ErrorKind::DuplicateId { entity: EntityKind::Node, id: id.0 }.into());
+            return Err(ErrorKind::DuplicateId {
+                entity: EntityKind::Node,
+                id: id.0,
+            }
+            .into());
         }
         if !position.iter().all(|x| x.is_finite()) {
             return Err(ErrorKind::NonFiniteCoordinate { node: id.0 }.into());
@@ -143,7 +162,11 @@ impl ModelPart {
         let idx = ElementIdx(self.elements.len() as u32);
         let conn = self.resolve(EntityKind::Element, id.0, kind, nodes)?;
         if self.elements.by_id.contains_key(&id.0) {
-            return Err(ErrorKind::DuplicateId { entity: EntityKind::Element, id: id.0 }.into());
+            return Err(ErrorKind::DuplicateId {
+                entity: EntityKind::Element,
+                id: id.0,
+            }
+            .into());
         }
         self.elements.push(id.0, kind, name, &conn, properties);
         Ok(idx)
@@ -161,12 +184,15 @@ impl ModelPart {
         let idx = ConditionIdx(self.conditions.len() as u32);
         let conn = self.resolve(EntityKind::Condition, id.0, kind, nodes)?;
         if self.conditions.by_id.contains_key(&id.0) {
-            return Err(
-                ErrorKind::DuplicateId { entity: EntityKind::Condition, id: id.0 }.into()
-            );
+            return Err(ErrorKind::DuplicateId {
+                entity: EntityKind::Condition,
+                id: id.0,
+            }
+            .into());
         }
         self.conditions.push(id.0, kind, name, &conn, properties);
         self.index_maps.push(IndexMap::new());
+        self.condition_normals.push(Vector::zeros());
         Ok(idx)
     }
 
@@ -190,7 +216,11 @@ impl ModelPart {
             .iter()
             .map(|n| {
                 self.nodes.index_of(n.0).ok_or_else(|| {
-                    Error::from(ErrorKind::MissingNode { entity, id, node: n.0 })
+                    Error::from(ErrorKind::MissingNode {
+                        entity,
+                        id,
+                        node: n.0,
+                    })
                 })
             })
             .collect()
@@ -211,7 +241,9 @@ impl ModelPart {
 
     /// Adds a properties block with no value if `id` does not exist yet.
     pub fn ensure_properties(&mut self, id: PropertiesId) {
-        self.properties.entry(id).or_insert_with(|| Properties::new(id));
+        self.properties
+            .entry(id)
+            .or_insert_with(|| Properties::new(id));
     }
 
     /// The sub model parts, by index.
@@ -236,7 +268,8 @@ impl ModelPart {
 
     /// The part at `path`, or [`ErrorKind::UnknownPart`].
     pub fn get_part(&self, path: &str) -> Result<PartIdx, Error> {
-        self.find_part(path).ok_or_else(|| ErrorKind::UnknownPart(path.to_owned()).into())
+        self.find_part(path)
+            .ok_or_else(|| ErrorKind::UnknownPart(path.to_owned()).into())
     }
 
     /// Full paths of every part, sorted.

@@ -68,7 +68,10 @@ impl ScalarVar {
 impl VectorVar {
     /// True for variables Kratos keeps in the solution-step buffer.
     pub fn is_historical(self) -> bool {
-        !matches!(self, VectorVar::DeltaCoordinates | VectorVar::AuxiliarCoordinates)
+        !matches!(
+            self,
+            VectorVar::DeltaCoordinates | VectorVar::AuxiliarCoordinates
+        )
     }
 
     /// Kratos' name.
@@ -135,7 +138,10 @@ impl NodalData {
 
     /// Mutable form of [`NodalData::scalar`].
     pub fn scalar_mut(&mut self, var: ScalarVar, step: usize) -> Option<&mut [Real]> {
-        self.scalars.get_mut(&var)?.get_mut(step).map(Vec::as_mut_slice)
+        self.scalars
+            .get_mut(&var)?
+            .get_mut(step)
+            .map(Vec::as_mut_slice)
     }
 
     /// The values of `var` at buffer step `step` (0 = current), by node index.
@@ -145,7 +151,10 @@ impl NodalData {
 
     /// Mutable form of [`NodalData::vector`].
     pub fn vector_mut(&mut self, var: VectorVar, step: usize) -> Option<&mut [Vector]> {
-        self.vectors.get_mut(&var)?.get_mut(step).map(Vec::as_mut_slice)
+        self.vectors
+            .get_mut(&var)?
+            .get_mut(step)
+            .map(Vec::as_mut_slice)
     }
 
     /// Advances the buffer of every historical variable (Kratos `CloneSolutionStep`): the

@@ -19,7 +19,8 @@ impl ProcessInfo {
 
     /// Sets a numeric value.
     pub fn set_number(&mut self, name: &str, value: f64) {
-        self.values.insert(name.to_owned(), PropertyValue::Number(value));
+        self.values
+            .insert(name.to_owned(), PropertyValue::Number(value));
     }
 
     /// Sets any value.

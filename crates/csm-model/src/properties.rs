@@ -27,7 +27,10 @@ pub struct Properties {
 impl Properties {
     /// An empty properties block.
     pub fn new(id: PropertiesId) -> Properties {
-        Properties { id, values: BTreeMap::new() }
+        Properties {
+            id,
+            values: BTreeMap::new(),
+        }
     }
 
     /// The numeric value of `name`, if present and a number.

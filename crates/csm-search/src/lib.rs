@@ -2,9 +2,21 @@
 //! interface conditions, normal check, master/slave flags, broad phase over every
 //! `type_search`, OBB narrow phase, pair filters and pairing).
 //!
-//! **Status:** not implemented yet. This crate is an empty placeholder that fixes the
-//! crate's place in the layering; it exports nothing and claims nothing.
+//! **Status:** only the setup layer exists: [`parse_setup`] turns the `Parameters` of a
+//! Kratos contact process (or a whole `ProjectParameters.json`) into a typed [`SearchSetup`]
+//! with Kratos' defaults, aliases, fallbacks and dropped keys (DESIGN.md §2). The stages
+//! themselves are not implemented yet.
 //!
 //! **Architecture Invariant:** `csm-search` depends on `csm-activation`, `csm-model`,
 //! `csm-trees` and `csm-geometry`, never on `csm-io` or the facade: it works on a
-//! `ModelPart` in memory and knows nothing of files.
+//! `ModelPart` in memory and knows nothing of files (the setup text is given to it).
+#![deny(missing_docs)]
+
+mod error;
+mod setup;
+
+pub use error::{Error, ErrorKind};
+pub use setup::{
+    CheckGap, Compatibility, ContactType, ObbIntersectionType, OctreeSearchParameters, PairSetup,
+    SearchParameters, SearchSetup, SearchTreeType, parse_setup,
+};

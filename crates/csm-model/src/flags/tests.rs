@@ -19,7 +19,10 @@ fn tri_state_semantics_follow_kratos() {
     assert_eq!(f.get(Flag::ACTIVE), None);
 
     f.flip(Flag::SLAVE);
-    assert!(f.is(Flag::SLAVE), "flipping an undefined flag makes it true");
+    assert!(
+        f.is(Flag::SLAVE),
+        "flipping an undefined flag makes it true"
+    );
     assert!(!f.is_defined(Flag::MASTER));
 }
 

@@ -6,7 +6,10 @@ fn p(x: f64, y: f64, z: f64) -> Point {
 
 fn square() -> ModelPart {
     let mut mp = ModelPart::new("Structure");
-    for (i, (x, y)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].iter().enumerate() {
+    for (i, (x, y)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+        .iter()
+        .enumerate()
+    {
         mp.add_node(NodeId(10 + i as u32), p(*x, *y, 0.0)).unwrap();
     }
     mp
@@ -26,7 +29,10 @@ fn ids_map_to_dense_indices() {
         .unwrap();
     assert_eq!(c, ConditionIdx(0));
     assert_eq!(mp.conditions().index_of(7), Some(0));
-    assert_eq!(mp.conditions().nodes(0), &[NodeIdx(0), NodeIdx(1), NodeIdx(2), NodeIdx(3)]);
+    assert_eq!(
+        mp.conditions().nodes(0),
+        &[NodeIdx(0), NodeIdx(1), NodeIdx(2), NodeIdx(3)]
+    );
     assert_eq!(mp.conditions().name(0), "SurfaceCondition3D4N");
     assert_eq!(mp.conditions().max_id(), 7);
     assert_eq!(mp.nodes().index_of(12), Some(NodeIdx(2)));
@@ -36,7 +42,13 @@ fn ids_map_to_dense_indices() {
 fn bad_entities_are_typed_errors() {
     let mut mp = square();
     let e = mp.add_node(NodeId(10), p(0.0, 0.0, 0.0)).unwrap_err();
-    assert_eq!(e.kind(), &ErrorKind::DuplicateId { entity: EntityKind::Node, id: 10 });
+    assert_eq!(
+        e.kind(),
+        &ErrorKind::DuplicateId {
+            entity: EntityKind::Node,
+            id: 10
+        }
+    );
     let e = mp.add_node(NodeId(99), p(f64::NAN, 0.0, 0.0)).unwrap_err();
     assert_eq!(e.kind(), &ErrorKind::NonFiniteCoordinate { node: 99 });
     let e = mp
@@ -48,11 +60,31 @@ fn bad_entities_are_typed_errors() {
             PropertiesId(0),
         )
         .unwrap_err();
-    assert_eq!(e.kind(), &ErrorKind::MissingNode { entity: EntityKind::Element, id: 1, node: 42 });
+    assert_eq!(
+        e.kind(),
+        &ErrorKind::MissingNode {
+            entity: EntityKind::Element,
+            id: 1,
+            node: 42
+        }
+    );
     let e = mp
-        .add_element(ElementId(1), GeometryKind::Triangle2D3, "", &[NodeId(10)], PropertiesId(0))
+        .add_element(
+            ElementId(1),
+            GeometryKind::Triangle2D3,
+            "",
+            &[NodeId(10)],
+            PropertiesId(0),
+        )
         .unwrap_err();
-    assert!(matches!(e.kind(), ErrorKind::WrongNodeCount { expected: 3, found: 1, .. }));
+    assert!(matches!(
+        e.kind(),
+        ErrorKind::WrongNodeCount {
+            expected: 3,
+            found: 1,
+            ..
+        }
+    ));
     assert!(e.to_string().contains("element 1 has 1 nodes"));
 }
 
@@ -68,9 +100,15 @@ fn sub_parts_are_addressed_by_full_path_and_propagate_to_ancestors() {
     assert_eq!(mp.part(contact).nodes(), &[NodeIdx(1), NodeIdx(3)]);
     assert_eq!(mp.part(leaf).parent(), Some(contact));
     assert_eq!(mp.part(contact).children(), &[leaf]);
-    assert_eq!(mp.part_paths(), vec!["Contact", "Contact.ContactSub0", "Parts_Slave"]);
+    assert_eq!(
+        mp.part_paths(),
+        vec!["Contact", "Contact.ContactSub0", "Parts_Slave"]
+    );
     assert_eq!(mp.root_parts(), &[contact, other]);
-    assert!(matches!(mp.get_part("Nope").unwrap_err().kind(), ErrorKind::UnknownPart(_)));
+    assert!(matches!(
+        mp.get_part("Nope").unwrap_err().kind(),
+        ErrorKind::UnknownPart(_)
+    ));
     assert!(mp.create_part("A..B").is_err());
     assert!(mp.create_part("").is_err());
 }

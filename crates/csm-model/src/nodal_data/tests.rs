@@ -8,11 +8,17 @@ fn historical_variables_keep_two_steps_and_plain_ones_one() {
     d.add_scalar(ScalarVar::NormalGap);
     assert!(d.scalar(ScalarVar::WeightedGap, 1).is_some());
     assert!(d.scalar(ScalarVar::NormalGap, 1).is_none());
-    assert!(d.scalar(ScalarVar::NodalArea, 0).is_none(), "absent variable");
+    assert!(
+        d.scalar(ScalarVar::NodalArea, 0).is_none(),
+        "absent variable"
+    );
 
     d.scalar_mut(ScalarVar::WeightedGap, 0).unwrap()[2] = 4.0;
     d.clone_solution_step();
-    assert_eq!(d.scalar(ScalarVar::WeightedGap, 1).unwrap(), &[0.0, 0.0, 4.0]);
+    assert_eq!(
+        d.scalar(ScalarVar::WeightedGap, 1).unwrap(),
+        &[0.0, 0.0, 4.0]
+    );
     d.scalar_mut(ScalarVar::WeightedGap, 0).unwrap()[2] = 5.0;
     assert_eq!(d.scalar(ScalarVar::WeightedGap, 0).unwrap()[2], 5.0);
     assert_eq!(d.scalar(ScalarVar::WeightedGap, 1).unwrap()[2], 4.0);

@@ -1,0 +1,56 @@
+use csm_geometry::GeometryKind;
+use csm_geometry::math::Point;
+
+use super::*;
+use crate::{ElementId, NodeId, PropertiesId};
+
+/// One triangle with edges d01 = 3, d12 = 5, d02 = 4 (a 3-4-5 right triangle), plus a node
+/// in no element.
+fn triangle() -> ModelPart {
+    let mut mp = ModelPart::new("Structure");
+    mp.add_node(NodeId(1), Point::new(0.0, 0.0, 0.0)).unwrap();
+    mp.add_node(NodeId(2), Point::new(3.0, 0.0, 0.0)).unwrap();
+    mp.add_node(NodeId(3), Point::new(0.0, 4.0, 0.0)).unwrap();
+    mp.add_node(NodeId(4), Point::new(9.0, 9.0, 0.0)).unwrap();
+    let ids = [NodeId(1), NodeId(2), NodeId(3)];
+    mp.add_element(
+        ElementId(1),
+        GeometryKind::Triangle2D3,
+        "",
+        &ids,
+        PropertiesId(0),
+    )
+    .unwrap();
+    mp
+}
+
+#[test]
+fn kratos_mode_keeps_only_the_last_pair_for_each_node_q40() {
+    // Reference §17.3: h0 = d02 (d01 lost), h1 = min(d01, d12), h2 = min(d02, d12).
+    let h = compute_nodal_h(&triangle(), None, NodalHMode::Kratos);
+    assert_eq!(h[0], 4.0, "d01 = 3 is lost for node 0 (Q40)");
+    assert_eq!(h[1], 3.0);
+    assert_eq!(h[2], 4.0);
+    assert_eq!(h[3], f64::MAX, "node in no element keeps DBL_MAX");
+}
+
+#[test]
+fn minimum_distance_mode_is_the_true_minimum() {
+    let h = compute_nodal_h(&triangle(), None, NodalHMode::MinimumDistance);
+    assert_eq!(&h[..3], &[3.0, 3.0, 4.0]);
+    assert_eq!(h[3], f64::MAX);
+}
+
+#[test]
+fn a_part_without_elements_leaves_every_node_at_max_and_assign_stores_it() {
+    let mut mp = triangle();
+    let part = mp.create_part("empty").unwrap();
+    assign_nodal_h(&mut mp, Some(part), NodalHMode::Kratos);
+    let h = mp.nodal_data().scalar(ScalarVar::NodalH, 0).unwrap();
+    assert!(h.iter().all(|&x| x == f64::MAX));
+    assign_nodal_h(&mut mp, None, NodalHMode::Kratos);
+    assert_eq!(
+        mp.nodal_data().scalar(ScalarVar::NodalH, 0).unwrap()[1],
+        3.0
+    );
+}

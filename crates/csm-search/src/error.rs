@@ -1,0 +1,117 @@
+//! The error type of the search layer.
+
+use std::fmt;
+
+/// An error of the search layer. Opaque; inspect it with [`Error::kind`]. Its `Display` is
+/// `<file>:<line>: <message>` when the position is known.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Error {
+    kind: ErrorKind,
+    file: Option<String>,
+    line: Option<usize>,
+}
+
+/// What went wrong in the search layer.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum ErrorKind {
+    /// The setup is not valid JSON.
+    Json(String),
+    /// A setup key is unknown to Kratos (Kratos rejects it too), or unknown to csm.
+    UnknownKey {
+        /// Dotted path of the key, e.g. `search_parameters.serch_factor`.
+        key: String,
+    },
+    /// A setup value has the wrong JSON type or an invalid value.
+    InvalidValue {
+        /// Dotted path of the key.
+        key: String,
+        /// What was expected.
+        expected: String,
+        /// What was found.
+        found: String,
+    },
+    /// No contact process was found in a ProjectParameters file.
+    NoContactProcess,
+    /// Kratos fails on this setup (e.g. `"type_search": "KDOP"` in `kratos` mode); the
+    /// message says how.
+    RejectedByKratos(String),
+    /// A silent fallback of Kratos that `"strict": true` turns into an error.
+    Strict(String),
+    /// A valid setup that asks for something csm does not do yet; the message says what.
+    NotImplemented(String),
+}
+
+impl Error {
+    /// An error of the given kind with no position.
+    pub fn new(kind: ErrorKind) -> Error {
+        Error {
+            kind,
+            file: None,
+            line: None,
+        }
+    }
+
+    /// What went wrong.
+    pub fn kind(&self) -> &ErrorKind {
+        &self.kind
+    }
+
+    /// The file the error is about, if known.
+    pub fn file(&self) -> Option<&str> {
+        self.file.as_deref()
+    }
+
+    /// The 1-based line, if known.
+    pub fn line(&self) -> Option<usize> {
+        self.line
+    }
+
+    /// Sets the position.
+    pub fn at(mut self, file: &str, line: Option<usize>) -> Error {
+        self.file = Some(file.to_owned());
+        self.line = line;
+        self
+    }
+}
+
+impl From<ErrorKind> for Error {
+    fn from(kind: ErrorKind) -> Error {
+        Error::new(kind)
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match (&self.file, self.line) {
+            (Some(file), Some(line)) => write!(f, "{file}:{line}: ")?,
+            (Some(file), None) => write!(f, "{file}: ")?,
+            _ => {}
+        }
+        match &self.kind {
+            ErrorKind::Json(msg) => write!(f, "expected a JSON setup, found invalid JSON: {msg}"),
+            ErrorKind::UnknownKey { key } => write!(
+                f,
+                "expected a known setup key, found `{key}` (Kratos rejects it too: \"present in \
+                 this Parameters but NOT in the default values\")"
+            ),
+            ErrorKind::InvalidValue {
+                key,
+                expected,
+                found,
+            } => {
+                write!(f, "`{key}`: expected {expected}, found {found}")
+            }
+            ErrorKind::NoContactProcess => write!(
+                f,
+                "expected the Parameters of a contact process or a ProjectParameters file with \
+                 one (python_module alm_contact_process, penalty_contact_process, …), found none"
+            ),
+            ErrorKind::RejectedByKratos(msg) => write!(f, "{msg}"),
+            ErrorKind::Strict(msg) => write!(f, "{msg} (an error because \"strict\": true)"),
+            ErrorKind::NotImplemented(msg) => write!(f, "not implemented yet: {msg}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
