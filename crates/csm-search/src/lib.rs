@@ -2,10 +2,12 @@
 //! interface conditions, normal check, master/slave flags, broad phase over every
 //! `type_search`, OBB narrow phase, pair filters and pairing).
 //!
-//! **Status:** only the setup layer exists: [`parse_setup`] turns the `Parameters` of a
-//! Kratos contact process (or a whole `ProjectParameters.json`) into a typed [`SearchSetup`]
-//! with Kratos' defaults, aliases, fallbacks and dropped keys (DESIGN.md §2). The stages
-//! themselves are not implemented yet.
+//! **Status:** the setup layer and the first stages exist: [`parse_setup`] turns the
+//! `Parameters` of a Kratos contact process (or a whole `ProjectParameters.json`) into a typed
+//! [`SearchSetup`] with Kratos' defaults, aliases, fallbacks and dropped keys (DESIGN.md §2);
+//! [`assign_contact_flags`] / [`transfer_to_contact`] build the contact parts and flags
+//! (stage 0); [`dispatch`] chooses the search instance (stage 4). Stages 1–3 and 5–8 are not
+//! implemented yet.
 //!
 //! **Architecture Invariant:** `csm-search` depends on `csm-activation`, `csm-model`,
 //! `csm-trees` and `csm-geometry`, never on `csm-io` or the facade: it works on a
@@ -14,9 +16,13 @@
 
 mod error;
 mod setup;
+mod stages;
 
 pub use error::{Error, ErrorKind};
 pub use setup::{
     CheckGap, Compatibility, ContactType, ObbIntersectionType, OctreeSearchParameters, PairSetup,
     SearchParameters, SearchSetup, SearchTreeType, parse_setup,
+};
+pub use stages::{
+    ContactParts, SearchInstance, assign_contact_flags, dispatch, transfer_to_contact,
 };

@@ -52,10 +52,11 @@ fn find_contact_process(v: &Value) -> Option<(&Map<String, Value>, &'static str)
         Value::Object(map) => {
             if let Some(Value::String(module)) = map.get("python_module") {
                 let module = module.rsplit('.').next().unwrap_or(module);
-                if let Some(m) = CONTACT_MODULES.iter().find(|m| **m == module) {
-                    if let Some(Value::Object(params)) = map.get("Parameters") {
-                        return Some((params, *m));
-                    }
+                if let (Some(m), Some(Value::Object(params))) = (
+                    CONTACT_MODULES.iter().find(|m| **m == module),
+                    map.get("Parameters"),
+                ) {
+                    return Some((params, *m));
                 }
             }
             map.values().find_map(find_contact_process)
@@ -340,13 +341,11 @@ fn parse_inner(text: &str) -> Result<SearchSetup, Error> {
         .cloned()
         .unwrap_or_default();
     let mut alm = defaults(ALM_DEFAULTS);
-    if explicit {
-        if let Some(Value::Object(sp)) = alm.get_mut("search_parameters") {
-            sp.insert(
-                "type_search".to_owned(),
-                Value::String("octree_with_obb".to_owned()),
-            );
-        }
+    if let (true, Some(Value::Object(sp))) = (explicit, alm.get_mut("search_parameters")) {
+        sp.insert(
+            "type_search".to_owned(),
+            Value::String("octree_with_obb".to_owned()),
+        );
     }
     validate_and_fill(&mut params, &alm, "")?;
     let top = Reader {
