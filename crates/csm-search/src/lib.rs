@@ -6,8 +6,8 @@
 //! `Parameters` of a Kratos contact process (or a whole `ProjectParameters.json`) into a typed
 //! [`SearchSetup`] with Kratos' defaults, aliases, fallbacks and dropped keys (DESIGN.md §2);
 //! [`assign_contact_flags`] / [`transfer_to_contact`] build the contact parts and flags
-//! (stage 0); [`dispatch`] chooses the search instance (stage 4). Stages 1–3 and 5–8 are not
-//! implemented yet.
+//! (stage 0); [`master_slave_from_nodes`] is stage 3; [`dispatch`] chooses the search
+//! instance (stage 4). Stages 1, 2 and 5–8 are not implemented yet.
 //!
 //! **Architecture Invariant:** `csm-search` depends on `csm-activation`, `csm-model`,
 //! `csm-trees` and `csm-geometry`, never on `csm-io` or the facade: it works on a
@@ -24,5 +24,6 @@ pub use setup::{
     SearchParameters, SearchSetup, SearchTreeType, parse_setup,
 };
 pub use stages::{
-    ContactParts, SearchInstance, assign_contact_flags, dispatch, transfer_to_contact,
+    ContactParts, SearchInstance, assign_contact_flags, dispatch, master_slave_from_nodes,
+    transfer_to_contact,
 };
