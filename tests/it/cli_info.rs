@@ -82,10 +82,10 @@ fn only_one_part_and_unknown_parts() {
 
 #[test]
 fn same_counts_from_mdpa_and_every_msh_flavour() {
-    let reference = info_json(&repo_mesh("stacked_blocks.mdpa"));
+    let reference = info_json(&repo_mesh("boxes.mdpa"));
     assert!(reference["conditions"].as_u64().unwrap() > 0);
-    for flavour in ["v41_ascii", "v41_binary", "v22_ascii", "v22_binary"] {
-        let v = info_json(&repo_mesh(&format!("stacked_blocks_{flavour}.msh")));
+    for flavour in ["41_ascii", "41_bin", "22_ascii", "22_bin"] {
+        let v = info_json(&repo_mesh(&format!("boxes_{flavour}.msh")));
         assert_eq!(v, reference, "{flavour} differs from the mdpa");
     }
 }
@@ -118,5 +118,26 @@ fn bad_files_are_clear_errors_with_a_non_zero_exit() {
     )
     .unwrap();
     check_error(&["info", missing.to_str().unwrap()], "missing_node.mdpa:6");
+    let duplicate = scratch("duplicate.mdpa");
+    std::fs::write(&duplicate, "Begin Nodes\n1 0 0 0\n1 1 0 0\nEnd Nodes\n").unwrap();
+    check_error(&["info", duplicate.to_str().unwrap()], "duplicate.mdpa:3");
+    let unknown_type = scratch("unknown_type.msh");
+    std::fs::write(
+        &unknown_type,
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n2 1 0 0\n$EndNodes\n\
+         $Elements\n1\n1 7 0 1 2\n$EndElements\n",
+    )
+    .unwrap();
+    check_error(&["info", unknown_type.to_str().unwrap()], "unknown_type.msh:11");
+    let binary = std::fs::read(repo_mesh("boxes_41_bin.msh")).unwrap();
+    let wrong_endianness = scratch("wrong_endianness.msh");
+    let mut flipped = binary.clone();
+    let marker = flipped.windows(4).position(|w| w == [1, 0, 0, 0]).unwrap();
+    flipped[marker..marker + 4].copy_from_slice(&[0, 0, 0, 1]);
+    std::fs::write(&wrong_endianness, &flipped).unwrap();
+    check_error(&["info", wrong_endianness.to_str().unwrap()], "endianness");
+    let truncated_binary = scratch("truncated_binary.msh");
+    std::fs::write(&truncated_binary, &binary[..binary.len() * 2 / 3]).unwrap();
+    check_error(&["info", truncated_binary.to_str().unwrap()], "truncated_binary.msh");
     check_error(&["info", "README.md"], "README.md");
 }

@@ -1,1 +1,28 @@
-//! I/O layer of csm (work in progress).
+//! I/O layer of csm: mesh readers and the VTU writer.
+//!
+//! - [`read_mesh`] reads a mesh by extension: Gmsh `.msh` ([`read_msh`]: MSH 2.2 and 4.1,
+//!   ASCII and binary) and Kratos `.mdpa` ([`read_mdpa`]), both parsed with `nom`, into a
+//!   [`csm_model::ModelPart`] named `Structure`.
+//! - [`VtuWriter`] writes a model part as a VTK XML UnstructuredGrid (`.vtu`, ASCII,
+//!   diff-friendly) with caller-supplied point and cell data and extra line cells (the
+//!   contact pairs).
+//! - [`Error`] (with [`ErrorKind`] and [`Location`]) says what went wrong and where:
+//!   `file:line: expected …, found …` for text, the byte offset and section for binary
+//!   Gmsh data. A truncated or garbled file gives an error, never a panic.
+//!
+//! **Architecture Invariant:** `csm-io` depends only on `csm-model` and `csm-geometry`
+//! (and `nom`). It knows nothing of the search: it fills a model part and writes one.
+#![deny(missing_docs)]
+
+mod cursor;
+mod error;
+mod mdpa;
+mod msh;
+mod read_mesh;
+mod vtu;
+
+pub use error::{Error, ErrorKind, Location};
+pub use mdpa::read_mdpa;
+pub use msh::read_msh;
+pub use read_mesh::read_mesh;
+pub use vtu::{DataArray, VtuWriter, vtk_cell_type};

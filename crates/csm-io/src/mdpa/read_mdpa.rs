@@ -1,0 +1,496 @@
+//! The Kratos `.mdpa` reader (behaviour of Kratos' `ModelPartIO::ReadModelPart`).
+//!
+//! The file is read word by word (any whitespace, CRLF, tabs; `//` and `/* */` comments).
+//! Blocks: `ModelPartData` (values into the process info), `Properties N`, `Nodes`,
+//! `Elements <Name>`, `Conditions <Name>` (geometry from the name, see
+//! `geometry_from_name`), `NodalData VAR` (NODAL_H, WEIGHTED_GAP, DISPLACEMENT, VELOCITY,
+//! ACCELERATION, NORMAL and their `_X/_Y/_Z` components are stored in the current step of the
+//! model's nodal data; other variables are skipped), `ElementalData`, `ConditionalData`,
+//! `Table`, `Geometries`, `Mesh` and `Constraints` (skipped), and nested `SubModelPart name`
+//! blocks (`SubModelPartNodes/Elements/Conditions` fill the part at its full path `A.B`;
+//! `SubModelPartData/Tables/Properties` are skipped). Any other `Begin X` is an error.
+//! `DOMAIN_SIZE` is 2 when every element and condition is a 2D geometry (`…2D…N` names),
+//! else 3, unless `ModelPartData` sets it.
+
+use csm_model::{
+    ConditionId, ElementId, ModelPart, NodeId, NodeIdx, PartIdx, Properties, PropertiesId,
+    PropertyValue, ScalarVar, VectorVar,
+};
+
+use crate::cursor::{Cursor, Token, parse_f64, quote};
+use crate::error::{Error, ErrorKind};
+use crate::mdpa::geometry_from_name::geometry_from_name;
+
+/// Reads a Kratos `.mdpa` text into a model part named `Structure`. `file_name` is used in
+/// error messages only.
+pub fn read_mdpa(text: &str, file_name: &str) -> Result<ModelPart, Error> {
+    let mut cur = Cursor::new(text.as_bytes(), file_name, true);
+    if cur.at_end()? {
+        return Err(cur.error_at(0, ErrorKind::Empty));
+    }
+    let mut r = Reader {
+        cur,
+        mp: ModelPart::new("Structure"),
+        ids: Vec::new(),
+    };
+    let mut domain_size_given = false;
+    while let Some(t) = r.cur.token()? {
+        if t.text != "Begin" {
+            return Err(r.cur.expected_at(t.pos, "`Begin`", &quote(t.text)));
+        }
+        let b = r.cur.expect_token("a block name")?;
+        match b.text {
+            "ModelPartData" => {
+                domain_size_given |= r.values("ModelPartData", None)?;
+            }
+            "Properties" => {
+                let id = r.cur.id("a properties id")?;
+                r.values("Properties", Some(PropertiesId(id)))?;
+            }
+            "Nodes" => r.nodes()?,
+            "Elements" | "Conditions" => r.entities(b.text == "Elements")?,
+            "NodalData" => r.nodal_data()?,
+            "SubModelPart" => r.sub_model_part(None)?,
+            "ElementalData"
+            | "ConditionalData"
+            | "Table"
+            | "Geometries"
+            | "Mesh"
+            | "Constraints"
+            | "MasterSlaveConstraints" => r.skip_block(b)?,
+            other => {
+                return Err(r
+                    .cur
+                    .error_at(b.pos, ErrorKind::UnknownBlock(other.to_owned())));
+            }
+        }
+    }
+    let mut mp = r.mp;
+    if !domain_size_given {
+        let kinds = mp.elements().kinds().iter().chain(mp.conditions().kinds());
+        let mut any = false;
+        let mut all_2d = true;
+        for k in kinds {
+            any = true;
+            all_2d &= k.working_dim() == 2;
+        }
+        mp.process_info_mut()
+            .set_number("DOMAIN_SIZE", if any && all_2d { 2.0 } else { 3.0 });
+    }
+    Ok(mp)
+}
+
+struct Reader<'a> {
+    cur: Cursor<'a>,
+    mp: ModelPart,
+    ids: Vec<NodeIdx>,
+}
+
+/// A value of a properties or process info line: a number, `[n] (a, b, …)` or text.
+fn parse_value(text: &str) -> PropertyValue {
+    if let Some(x) = parse_f64(text) {
+        return PropertyValue::Number(x);
+    }
+    if text.starts_with('[')
+        && let (Some(open), Some(close)) = (text.find('('), text.rfind(')'))
+        && open < close
+    {
+        let inner = text[open + 1..close].replace(['(', ')'], " ");
+        let v: Option<Vec<f64>> = inner
+            .split([',', ' '])
+            .filter(|s| !s.trim().is_empty())
+            .map(|s| parse_f64(s.trim()))
+            .collect();
+        if let Some(v) = v {
+            return PropertyValue::Vector(v);
+        }
+    }
+    PropertyValue::Text(text.trim_matches('"').to_owned())
+}
+
+fn scalar_var(name: &str) -> Option<ScalarVar> {
+    Some(match name {
+        "NODAL_H" => ScalarVar::NodalH,
+        "WEIGHTED_GAP" => ScalarVar::WeightedGap,
+        "LAGRANGE_MULTIPLIER_CONTACT_PRESSURE" => ScalarVar::LagrangeMultiplierContactPressure,
+        "NORMAL_GAP" => ScalarVar::NormalGap,
+        "NODAL_AREA" => ScalarVar::NodalArea,
+        _ => return None,
+    })
+}
+
+fn vector_var(name: &str) -> Option<VectorVar> {
+    Some(match name {
+        "DISPLACEMENT" => VectorVar::Displacement,
+        "VELOCITY" => VectorVar::Velocity,
+        "ACCELERATION" => VectorVar::Acceleration,
+        "NORMAL" => VectorVar::Normal,
+        _ => return None,
+    })
+}
+
+impl<'a> Reader<'a> {
+    fn model_err(&self, pos: usize, e: csm_model::Error) -> Error {
+        self.cur.error_at(pos, ErrorKind::Model(e))
+    }
+
+    /// The next word, which must not be `End` … of another block: true at `End <block>`.
+    fn at_end_of(&mut self, t: &Token<'_>, block: &str) -> Result<bool, Error> {
+        if t.text == "End" {
+            self.cur.expect_word(block)?;
+            return Ok(true);
+        }
+        Ok(false)
+    }
+
+    fn next(&mut self, block: &str) -> Result<Token<'a>, Error> {
+        let expected = format!("`End {block}`");
+        self.cur.expect_token(&expected)
+    }
+
+    /// `NAME value` lines up to `End <block>`; into properties `props`, or the process info.
+    /// Nested `Begin Table … End Table` are skipped. True if DOMAIN_SIZE was set.
+    fn values(&mut self, block: &str, props: Option<PropertiesId>) -> Result<bool, Error> {
+        let mut properties = props.map(Properties::new);
+        let mut domain_size = false;
+        loop {
+            let t = self.next(block)?;
+            let (text, pos) = (t.text, t.pos);
+            if text == "End" {
+                self.cur.expect_word(block)?;
+                break;
+            }
+            if text == "Begin" {
+                let b = self.cur.expect_token("a block name")?;
+                if b.text != "Table" {
+                    return Err(self
+                        .cur
+                        .error_at(b.pos, ErrorKind::UnknownBlock(b.text.to_owned())));
+                }
+                self.skip_block(b)?;
+                continue;
+            }
+            let name = text.to_owned();
+            let (value, _) = self.cur.rest_of_line()?;
+            let value = parse_value(value);
+            match &mut properties {
+                Some(p) => {
+                    p.values.insert(name, value);
+                }
+                None => {
+                    domain_size |= name == "DOMAIN_SIZE";
+                    self.mp.process_info_mut().set(&name, value);
+                }
+            }
+            let _ = pos;
+        }
+        if let Some(p) = properties {
+            let id = p.id;
+            if self.mp.properties().contains_key(&id) {
+                // Kratos merges repeated blocks; keep the values of both.
+                if let Some(old) = self.mp.properties_mut().get_mut(&id) {
+                    old.values.extend(p.values);
+                }
+            } else {
+                self.mp.properties_mut().insert(id, p);
+            }
+        }
+        Ok(domain_size)
+    }
+
+    /// Skips up to `End <name>` of the block `b` (nested blocks of the same name included).
+    fn skip_block(&mut self, b: Token<'_>) -> Result<(), Error> {
+        let name = b.text.to_owned();
+        let mut depth = 1usize;
+        let mut prev_begin = false;
+        let mut prev_end = false;
+        while let Some(t) = self.cur.token()? {
+            if t.text == name && prev_begin {
+                depth += 1;
+            } else if t.text == name && prev_end {
+                depth -= 1;
+                if depth == 0 {
+                    return Ok(());
+                }
+            }
+            prev_begin = t.text == "Begin";
+            prev_end = t.text == "End";
+        }
+        Err(self
+            .cur
+            .error_at(b.pos, ErrorKind::Unterminated(format!("`Begin {name}`"))))
+    }
+
+    fn nodes(&mut self) -> Result<(), Error> {
+        loop {
+            let t = self.next("Nodes")?;
+            let (text, pos) = (t.text, t.pos);
+            if self.at_end_of(&Token { text, pos }, "Nodes")? {
+                return Ok(());
+            }
+            let id = crate::cursor::parse_u64(text)
+                .and_then(|v| u32::try_from(v).ok())
+                .ok_or_else(|| {
+                    self.cur
+                        .expected_at(pos, "a node id or `End Nodes`", &quote(text))
+                })?;
+            let x = self.cur.f64("a finite x coordinate")?;
+            let y = self.cur.f64("a finite y coordinate")?;
+            let z = self.cur.f64("a finite z coordinate")?;
+            self.mp
+                .add_node(NodeId(id), [x, y, z].into())
+                .map_err(|e| self.model_err(pos, e))?;
+        }
+    }
+
+    fn entities(&mut self, is_element: bool) -> Result<(), Error> {
+        let block = if is_element { "Elements" } else { "Conditions" };
+        let name_tok = self.cur.expect_token("an element or condition name")?;
+        let name = name_tok.text.to_owned();
+        let kind = geometry_from_name(&name, is_element).ok_or_else(|| {
+            self.cur
+                .error_at(name_tok.pos, ErrorKind::UnknownGeometryName(name.clone()))
+        })?;
+        let mut conn: Vec<NodeId> = Vec::with_capacity(kind.n_nodes());
+        loop {
+            let t = self.next(block)?;
+            let (text, pos) = (t.text, t.pos);
+            if self.at_end_of(&Token { text, pos }, block)? {
+                return Ok(());
+            }
+            let id = crate::cursor::parse_u64(text)
+                .and_then(|v| u32::try_from(v).ok())
+                .ok_or_else(|| {
+                    self.cur
+                        .expected_at(pos, &format!("an id or `End {block}`"), &quote(text))
+                })?;
+            let prop = PropertiesId(self.cur.id("a properties id")?);
+            conn.clear();
+            for _ in 0..kind.n_nodes() {
+                conn.push(NodeId(self.cur.id("a node id")?));
+            }
+            self.mp.ensure_properties(prop);
+            let r = if is_element {
+                self.mp
+                    .add_element(ElementId(id), kind, &name, &conn, prop)
+                    .map(|_| ())
+            } else {
+                self.mp
+                    .add_condition(ConditionId(id), kind, &name, &conn, prop)
+                    .map(|_| ())
+            };
+            r.map_err(|e| self.model_err(pos, e))?;
+        }
+    }
+
+    fn node_idx(&self, id: u32, pos: usize) -> Result<NodeIdx, Error> {
+        self.mp.nodes().index_of(id).ok_or_else(|| {
+            self.model_err(
+                pos,
+                csm_model::Error::new(csm_model::ErrorKind::MissingEntity {
+                    entity: csm_model::EntityKind::Node,
+                    id,
+                }),
+            )
+        })
+    }
+
+    /// `Begin NodalData VAR`: `id fixed value` (scalars, components) or
+    /// `id fixed [3] (x, y, z)` (vectors) per line.
+    fn nodal_data(&mut self) -> Result<(), Error> {
+        let var_tok = self.cur.expect_token("a variable name")?;
+        let var = var_tok.text.to_owned();
+        let (base, component) = match var.rsplit_once('_') {
+            Some((b, "X")) if vector_var(b).is_some() => (b.to_owned(), Some(0)),
+            Some((b, "Y")) if vector_var(b).is_some() => (b.to_owned(), Some(1)),
+            Some((b, "Z")) if vector_var(b).is_some() => (b.to_owned(), Some(2)),
+            _ => (var.clone(), None),
+        };
+        let scalar = if component.is_none() {
+            scalar_var(&base)
+        } else {
+            None
+        };
+        let vector = vector_var(&base);
+        if scalar.is_none() && vector.is_none() {
+            return self.skip_block(Token {
+                text: "NodalData",
+                pos: var_tok.pos,
+            });
+        }
+        if let Some(s) = scalar {
+            self.mp.nodal_data_mut().add_scalar(s);
+        }
+        if let Some(v) = vector {
+            self.mp.nodal_data_mut().add_vector(v);
+        }
+        loop {
+            let t = self.next("NodalData")?;
+            let (text, pos) = (t.text, t.pos);
+            if self.at_end_of(&Token { text, pos }, "NodalData")? {
+                return Ok(());
+            }
+            let id = crate::cursor::parse_u64(text)
+                .and_then(|v| u32::try_from(v).ok())
+                .ok_or_else(|| {
+                    self.cur
+                        .expected_at(pos, "a node id or `End NodalData`", &quote(text))
+                })?;
+            let idx = self.node_idx(id, pos)?;
+            let (line, lpos) = self.cur.rest_of_line()?;
+            let words: Vec<&str> = line.split_whitespace().collect();
+            if let (Some(v), None) = (vector, component) {
+                // Optional fixity word, then `[3] (x, y, z)`.
+                let start = line.find('[').ok_or_else(|| {
+                    self.cur
+                        .expected_at(lpos, "a vector `[3] (x, y, z)`", &quote(line))
+                })?;
+                let values = match parse_value(&line[start..]) {
+                    PropertyValue::Vector(v) if v.len() == 3 && v.iter().all(|x| x.is_finite()) => {
+                        v
+                    }
+                    _ => {
+                        return Err(self.cur.expected_at(
+                            lpos,
+                            "a vector `[3] (x, y, z)`",
+                            &quote(line),
+                        ));
+                    }
+                };
+                if let Some(col) = self.mp.nodal_data_mut().vector_mut(v, 0) {
+                    col[idx.index()] = [values[0], values[1], values[2]].into();
+                }
+                continue;
+            }
+            let value = words
+                .last()
+                .and_then(|w| parse_f64(w))
+                .filter(|x| x.is_finite() && (1..=2).contains(&words.len()))
+                .ok_or_else(|| self.cur.expected_at(lpos, "`fixed value`", &quote(line)))?;
+            match (scalar, vector, component) {
+                (Some(s), _, _) => {
+                    if let Some(col) = self.mp.nodal_data_mut().scalar_mut(s, 0) {
+                        col[idx.index()] = value;
+                    }
+                }
+                (_, Some(v), Some(c)) => {
+                    if let Some(col) = self.mp.nodal_data_mut().vector_mut(v, 0) {
+                        col[idx.index()][c] = value;
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// Ids up to `End <block>`, as raw values with their positions.
+    fn id_list(&mut self, block: &str) -> Result<Vec<(u32, usize)>, Error> {
+        let mut out = Vec::new();
+        loop {
+            let t = self.next(block)?;
+            let (text, pos) = (t.text, t.pos);
+            if self.at_end_of(&Token { text, pos }, block)? {
+                return Ok(out);
+            }
+            let id = crate::cursor::parse_u64(text)
+                .and_then(|v| u32::try_from(v).ok())
+                .ok_or_else(|| {
+                    self.cur
+                        .expected_at(pos, &format!("an id or `End {block}`"), &quote(text))
+                })?;
+            out.push((id, pos));
+        }
+    }
+
+    fn sub_model_part(&mut self, parent: Option<&str>) -> Result<(), Error> {
+        let name_tok = self.cur.expect_token("a sub model part name")?;
+        let path = match parent {
+            Some(p) => format!("{p}.{}", name_tok.text),
+            None => name_tok.text.to_owned(),
+        };
+        let npos = name_tok.pos;
+        let part: PartIdx = self
+            .mp
+            .create_part(&path)
+            .map_err(|e| self.model_err(npos, e))?;
+        loop {
+            let t = self.next("SubModelPart")?;
+            let (text, pos) = (t.text, t.pos);
+            if self.at_end_of(&Token { text, pos }, "SubModelPart")? {
+                return Ok(());
+            }
+            if text != "Begin" {
+                return Err(self.cur.expected_at(
+                    pos,
+                    "`Begin` or `End SubModelPart`",
+                    &quote(text),
+                ));
+            }
+            let b = self.cur.expect_token("a block name")?;
+            let (btext, bpos) = (b.text, b.pos);
+            match btext {
+                "SubModelPartNodes" => {
+                    let ids = self.id_list(btext)?;
+                    self.ids.clear();
+                    for (id, pos) in ids {
+                        let idx = self.node_idx(id, pos)?;
+                        self.ids.push(idx);
+                    }
+                    self.ids.sort_unstable();
+                    let ids = std::mem::take(&mut self.ids);
+                    self.mp.add_nodes_to_part(part, &ids);
+                    self.ids = ids;
+                }
+                "SubModelPartElements" => {
+                    let mut v = Vec::new();
+                    for (id, pos) in self.id_list(btext)? {
+                        let i =
+                            self.mp.elements().index_of(id).ok_or_else(|| {
+                                self.missing(csm_model::EntityKind::Element, id, pos)
+                            })?;
+                        v.push(csm_model::ElementIdx(i as u32));
+                    }
+                    v.sort_unstable();
+                    self.mp.add_elements_to_part(part, &v);
+                }
+                "SubModelPartConditions" => {
+                    let mut v = Vec::new();
+                    for (id, pos) in self.id_list(btext)? {
+                        let i = self.mp.conditions().index_of(id).ok_or_else(|| {
+                            self.missing(csm_model::EntityKind::Condition, id, pos)
+                        })?;
+                        v.push(csm_model::ConditionIdx(i as u32));
+                    }
+                    v.sort_unstable();
+                    self.mp.add_conditions_to_part(part, &v);
+                }
+                "SubModelPartData"
+                | "SubModelPartTables"
+                | "SubModelPartProperties"
+                | "SubModelPartGeometries"
+                | "SubModelPartConstraints" => {
+                    self.skip_block(Token {
+                        text: btext,
+                        pos: bpos,
+                    })?;
+                }
+                "SubModelPart" => {
+                    let p = path.clone();
+                    self.sub_model_part(Some(&p))?;
+                }
+                other => {
+                    return Err(self
+                        .cur
+                        .error_at(bpos, ErrorKind::UnknownBlock(other.to_owned())));
+                }
+            }
+        }
+    }
+
+    fn missing(&self, entity: csm_model::EntityKind, id: u32, pos: usize) -> Error {
+        self.model_err(
+            pos,
+            csm_model::Error::new(csm_model::ErrorKind::MissingEntity { entity, id }),
+        )
+    }
+}

@@ -1,0 +1,326 @@
+//! The VTU writer: a model part as a VTK XML UnstructuredGrid, ASCII, diff-friendly.
+//!
+//! Points are the nodes in dense order (current coordinates). Cells are the elements, then
+//! the conditions, then the extra line cells, each in dense order. Built-in arrays: point
+//! data `node_id`; cell data `entity_id` (the file id; the index of the line for line cells)
+//! and `entity_kind` (0 element, 1 condition, 2 line cell). Floats are written in Rust's
+//! shortest round-trip scientific form (`{:e}`, e.g. `2.5e-1`), NaN as `nan`, infinities as
+//! `inf`/`-inf`; the output is byte-identical for the same input.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use csm_model::{ModelPart, NodeIdx};
+
+use crate::error::{Error, ErrorKind, Location};
+use crate::vtu::cell_type::{vtk_cell_type, vtk_permutation};
+
+/// Values of a data array: `components` values per point or cell, flattened.
+#[derive(Debug, Clone, PartialEq)]
+pub enum DataArray {
+    /// `Float64` values.
+    F64 {
+        /// Components per tuple (1 scalar, 3 vector).
+        components: usize,
+        /// The values, tuple after tuple.
+        values: Vec<f64>,
+    },
+    /// `Int64` values.
+    I64 {
+        /// Components per tuple.
+        components: usize,
+        /// The values, tuple after tuple.
+        values: Vec<i64>,
+    },
+}
+
+impl DataArray {
+    fn components(&self) -> usize {
+        match self {
+            DataArray::F64 { components, .. } | DataArray::I64 { components, .. } => {
+                (*components).max(1)
+            }
+        }
+    }
+
+    fn len(&self) -> usize {
+        match self {
+            DataArray::F64 { values, .. } => values.len(),
+            DataArray::I64 { values, .. } => values.len(),
+        }
+    }
+}
+
+/// Writes a model part and caller-supplied data as a `.vtu` file.
+#[derive(Debug)]
+pub struct VtuWriter<'a> {
+    model: &'a ModelPart,
+    point_data: Vec<(String, DataArray)>,
+    cell_data: Vec<(String, DataArray)>,
+    lines: Vec<[NodeIdx; 2]>,
+}
+
+fn push_f64(out: &mut String, x: f64) {
+    if x.is_nan() {
+        out.push_str("nan");
+    } else if x.is_infinite() {
+        out.push_str(if x > 0.0 { "inf" } else { "-inf" });
+    } else {
+        let _ = write!(out, "{x:e}");
+    }
+}
+
+fn escape(name: &str) -> String {
+    name.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+fn write_array(out: &mut String, name: &str, a: &DataArray) {
+    let (ty, n) = match a {
+        DataArray::F64 { .. } => ("Float64", a.components()),
+        DataArray::I64 { .. } => ("Int64", a.components()),
+    };
+    let _ = writeln!(
+        out,
+        "        <DataArray type=\"{ty}\" Name=\"{}\" NumberOfComponents=\"{n}\" format=\"ascii\">",
+        escape(name)
+    );
+    let per_line = n.max(1);
+    match a {
+        DataArray::F64 { values, .. } => {
+            for chunk in values.chunks(per_line) {
+                out.push_str("          ");
+                for (k, &x) in chunk.iter().enumerate() {
+                    if k > 0 {
+                        out.push(' ');
+                    }
+                    push_f64(out, x);
+                }
+                out.push('\n');
+            }
+        }
+        DataArray::I64 { values, .. } => {
+            for chunk in values.chunks(per_line) {
+                out.push_str("          ");
+                for (k, x) in chunk.iter().enumerate() {
+                    if k > 0 {
+                        out.push(' ');
+                    }
+                    let _ = write!(out, "{x}");
+                }
+                out.push('\n');
+            }
+        }
+    }
+    out.push_str("        </DataArray>\n");
+}
+
+impl<'a> VtuWriter<'a> {
+    /// A writer of `model`'s nodes, elements and conditions.
+    pub fn new(model: &'a ModelPart) -> VtuWriter<'a> {
+        VtuWriter {
+            model,
+            point_data: Vec::new(),
+            cell_data: Vec::new(),
+            lines: Vec::new(),
+        }
+    }
+
+    /// Adds line cells between the given node pairs (e.g. contact pairs), after the
+    /// conditions.
+    pub fn line_cells(&mut self, lines: &[[NodeIdx; 2]]) -> &mut Self {
+        self.lines.extend_from_slice(lines);
+        self
+    }
+
+    /// Adds a point data array (one tuple per node, dense order).
+    pub fn point_data(&mut self, name: &str, data: DataArray) -> &mut Self {
+        self.point_data.push((name.to_owned(), data));
+        self
+    }
+
+    /// Adds a cell data array (one tuple per cell: elements, conditions, line cells).
+    pub fn cell_data(&mut self, name: &str, data: DataArray) -> &mut Self {
+        self.cell_data.push((name.to_owned(), data));
+        self
+    }
+
+    /// Number of cells written: elements + conditions + line cells.
+    pub fn n_cells(&self) -> usize {
+        self.model.elements().len() + self.model.conditions().len() + self.lines.len()
+    }
+
+    /// The `.vtu` text; errors if a data array has the wrong length.
+    pub fn to_xml(&self, file_name: &str) -> Result<String, Error> {
+        let n_points = self.model.nodes().len();
+        let n_cells = self.n_cells();
+        for (arrays, n) in [(&self.point_data, n_points), (&self.cell_data, n_cells)] {
+            for (name, a) in arrays {
+                if a.len() != n * a.components() {
+                    return Err(Error::new(
+                        file_name,
+                        Location::None,
+                        ErrorKind::ArrayLength {
+                            name: name.clone(),
+                            expected: n * a.components(),
+                            found: a.len(),
+                        },
+                    ));
+                }
+            }
+        }
+        let mut out = String::new();
+        out.push_str("<?xml version=\"1.0\"?>\n");
+        out.push_str(
+            "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n",
+        );
+        out.push_str("  <UnstructuredGrid>\n");
+        let _ = writeln!(
+            out,
+            "    <Piece NumberOfPoints=\"{n_points}\" NumberOfCells=\"{n_cells}\">"
+        );
+
+        out.push_str("      <PointData>\n");
+        let ids = DataArray::I64 {
+            components: 1,
+            values: self
+                .model
+                .nodes()
+                .ids()
+                .iter()
+                .map(|&i| i64::from(i))
+                .collect(),
+        };
+        write_array(&mut out, "node_id", &ids);
+        for (name, a) in &self.point_data {
+            write_array(&mut out, name, a);
+        }
+        out.push_str("      </PointData>\n");
+
+        out.push_str("      <CellData>\n");
+        let (mut ids, mut kinds) = (Vec::with_capacity(n_cells), Vec::with_capacity(n_cells));
+        for (k, ents) in [self.model.elements(), self.model.conditions()]
+            .into_iter()
+            .enumerate()
+        {
+            ids.extend(ents.ids().iter().map(|&i| i64::from(i)));
+            kinds.extend(std::iter::repeat_n(k as i64, ents.len()));
+        }
+        ids.extend((0..self.lines.len()).map(|i| i as i64));
+        kinds.extend(std::iter::repeat_n(2, self.lines.len()));
+        write_array(
+            &mut out,
+            "entity_id",
+            &DataArray::I64 {
+                components: 1,
+                values: ids,
+            },
+        );
+        write_array(
+            &mut out,
+            "entity_kind",
+            &DataArray::I64 {
+                components: 1,
+                values: kinds,
+            },
+        );
+        for (name, a) in &self.cell_data {
+            write_array(&mut out, name, a);
+        }
+        out.push_str("      </CellData>\n");
+
+        out.push_str("      <Points>\n");
+        let xyz: Vec<f64> = self
+            .model
+            .nodes()
+            .coordinates()
+            .iter()
+            .flat_map(|p| [p.x, p.y, p.z])
+            .collect();
+        write_array(
+            &mut out,
+            "Points",
+            &DataArray::F64 {
+                components: 3,
+                values: xyz,
+            },
+        );
+        out.push_str("      </Points>\n");
+
+        let mut conn: Vec<i64> = Vec::new();
+        let mut offsets: Vec<i64> = Vec::with_capacity(n_cells);
+        let mut types: Vec<i64> = Vec::with_capacity(n_cells);
+        for ents in [self.model.elements(), self.model.conditions()] {
+            for i in 0..ents.len() {
+                let nodes = ents.nodes(i);
+                let kind = ents.kind(i);
+                match vtk_permutation(kind) {
+                    Some(p) if p.len() == nodes.len() => {
+                        conn.extend(p.iter().map(|&k| nodes[k].index() as i64));
+                    }
+                    _ => conn.extend(nodes.iter().map(|n| n.index() as i64)),
+                }
+                offsets.push(conn.len() as i64);
+                types.push(i64::from(vtk_cell_type(kind)));
+            }
+        }
+        for l in &self.lines {
+            conn.extend([l[0].index() as i64, l[1].index() as i64]);
+            offsets.push(conn.len() as i64);
+            types.push(3);
+        }
+        out.push_str("      <Cells>\n");
+        write_cells(&mut out, "connectivity", &conn, &offsets);
+        write_array(
+            &mut out,
+            "offsets",
+            &DataArray::I64 {
+                components: 1,
+                values: offsets,
+            },
+        );
+        let types = types.into_iter().map(|t| t.to_string()).collect::<Vec<_>>();
+        out.push_str(
+            "        <DataArray type=\"UInt8\" Name=\"types\" NumberOfComponents=\"1\" format=\"ascii\">\n",
+        );
+        for t in types {
+            let _ = writeln!(out, "          {t}");
+        }
+        out.push_str("        </DataArray>\n");
+        out.push_str("      </Cells>\n");
+        out.push_str("    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
+        Ok(out)
+    }
+
+    /// Writes the `.vtu` file at `path`.
+    pub fn write_file(&self, path: &Path) -> Result<(), Error> {
+        let file = path.display().to_string();
+        let xml = self.to_xml(&file)?;
+        std::fs::write(path, xml)
+            .map_err(|e| Error::new(&file, Location::None, ErrorKind::Io(e.to_string())))
+    }
+}
+
+/// The connectivity, one cell per line.
+fn write_cells(out: &mut String, name: &str, conn: &[i64], offsets: &[i64]) {
+    let _ = writeln!(
+        out,
+        "        <DataArray type=\"Int64\" Name=\"{name}\" NumberOfComponents=\"1\" format=\"ascii\">"
+    );
+    let mut start = 0usize;
+    for &end in offsets {
+        let end = end as usize;
+        out.push_str("          ");
+        for (k, x) in conn[start..end].iter().enumerate() {
+            if k > 0 {
+                out.push(' ');
+            }
+            let _ = write!(out, "{x}");
+        }
+        out.push('\n');
+        start = end;
+    }
+    out.push_str("        </DataArray>\n");
+}

@@ -1,0 +1,92 @@
+//! Box query (reference §6.3): all points inside an axis-aligned box, faces included.
+
+use std::ops::ControlFlow;
+
+use csm_geometry::math::Point;
+
+use crate::aabb::Aabb;
+use crate::error::{Error, check_point};
+use crate::kdtree::tree::{KdTree, Node};
+use crate::query_status::QueryStatus;
+
+impl<T: Copy> KdTree<T> {
+    /// Collects into `out` (cleared first) the items whose point `p` satisfies
+    /// `min[k] <= p[k] <= max[k]` for k = x, y, z (**inclusive**, as Kratos' `SearchInBox`),
+    /// at most `max_results` of them.
+    ///
+    /// Results come in tree traversal order. Truncation at `max_results` works as for
+    /// [`KdTree::in_radius`]. A box with `min == max` finds the points equal to that corner;
+    /// an inverted box (`min[k] > max[k]` on some axis) finds nothing, as in Kratos.
+    ///
+    /// Errors: [`crate::ErrorKind::NonFinite`] for a NaN or infinite corner.
+    pub fn in_box(
+        &self,
+        min: &Point,
+        max: &Point,
+        max_results: usize,
+        out: &mut Vec<T>,
+    ) -> Result<QueryStatus, Error> {
+        out.clear();
+        check_point(min, "box corner")?;
+        check_point(max, "box corner")?;
+        let Some(root) = self.root else {
+            return Ok(QueryStatus::default());
+        };
+        let mut search = BoxSearch {
+            tree: self,
+            aabb: Aabb::new(*min, *max),
+            max_results,
+            out,
+        };
+        let flow = search.visit(root);
+        Ok(QueryStatus {
+            truncated: flow.is_break(),
+        })
+    }
+}
+
+/// The state of one box query.
+struct BoxSearch<'a, T> {
+    tree: &'a KdTree<T>,
+    aabb: Aabb,
+    max_results: usize,
+    out: &'a mut Vec<T>,
+}
+
+impl<T: Copy> BoxSearch<'_, T> {
+    /// Visits the subtree `node`; breaks when a hit beyond the cap is found (truncation).
+    fn visit(&mut self, node: u32) -> ControlFlow<()> {
+        match self.tree.nodes[node as usize] {
+            Node::Leaf { start, end } => {
+                let (start, end) = (start as usize, end as usize);
+                for (item, p) in self.tree.items[start..end]
+                    .iter()
+                    .zip(&self.tree.points[start..end])
+                {
+                    if self.aabb.contains_point(p) {
+                        if self.out.len() >= self.max_results {
+                            return ControlFlow::Break(());
+                        }
+                        self.out.push(*item);
+                    }
+                }
+                ControlFlow::Continue(())
+            }
+            Node::Inner {
+                axis,
+                cut,
+                left,
+                right,
+            } => {
+                let axis = axis as usize;
+                if self.aabb.mins[axis] <= cut {
+                    self.visit(left)?;
+                }
+                if self.aabb.maxs[axis] >= cut {
+                    self.visit(right)?;
+                }
+                ControlFlow::Continue(())
+            }
+        }
+    }
+}

@@ -1,0 +1,121 @@
+//! Radius query (reference §6.2): all points strictly closer than `radius` to a centre.
+
+use std::ops::ControlFlow;
+
+use csm_geometry::math::{Point, Real};
+
+use crate::error::{Error, ErrorKind, check_point};
+use crate::kdtree::tree::{KdTree, Node};
+use crate::query_status::QueryStatus;
+
+impl<T: Copy> KdTree<T> {
+    /// Collects into `out` (cleared first) the items whose point `p` satisfies
+    /// `|p − center|² < radius²` (**strict**, squared distance summed over x, y, z in that
+    /// order, as Kratos' `SearchInRadius`), at most `max_results` of them.
+    ///
+    /// Results come in tree traversal order (Kratos' order for the same build). When more
+    /// than `max_results` points qualify, the first `max_results` in traversal order are kept
+    /// and [`QueryStatus::truncated`] is set (Kratos drops the rest silently, §6.4). `out` is
+    /// the caller's reusable buffer; no buffer of size `max_results` is allocated.
+    ///
+    /// A radius of 0 finds nothing. Errors: [`ErrorKind::NonFinite`] for a NaN/infinite centre
+    /// or radius, [`ErrorKind::NegativeRadius`].
+    pub fn in_radius(
+        &self,
+        center: &Point,
+        radius: Real,
+        max_results: usize,
+        out: &mut Vec<T>,
+    ) -> Result<QueryStatus, Error> {
+        out.clear();
+        check_point(center, "center")?;
+        if !radius.is_finite() {
+            return Err(Error::non_finite("radius"));
+        }
+        if radius < 0.0 {
+            return Err(Error::new(ErrorKind::NegativeRadius));
+        }
+        let Some(root) = self.root else {
+            return Ok(QueryStatus::default());
+        };
+        let mut search = RadiusSearch {
+            tree: self,
+            center,
+            radius2: radius * radius,
+            max_results,
+            out,
+        };
+        let mut residual = [0.0; 3];
+        let flow = search.visit(root, &mut residual);
+        Ok(QueryStatus {
+            truncated: flow.is_break(),
+        })
+    }
+}
+
+/// The state of one radius query.
+struct RadiusSearch<'a, T> {
+    tree: &'a KdTree<T>,
+    center: &'a Point,
+    radius2: Real,
+    max_results: usize,
+    out: &'a mut Vec<T>,
+}
+
+impl<T: Copy> RadiusSearch<'_, T> {
+    /// Visits the subtree `node`; `residual[k]` is a lower bound of the squared distance along
+    /// axis `k` from the centre to any point of the subtree. Breaks when a hit beyond the cap
+    /// is found (truncation).
+    fn visit(&mut self, node: u32, residual: &mut [Real; 3]) -> ControlFlow<()> {
+        match self.tree.nodes[node as usize] {
+            Node::Leaf { start, end } => {
+                let (start, end) = (start as usize, end as usize);
+                for (item, p) in self.tree.items[start..end]
+                    .iter()
+                    .zip(&self.tree.points[start..end])
+                {
+                    if distance2(p, self.center) < self.radius2 {
+                        if self.out.len() >= self.max_results {
+                            return ControlFlow::Break(());
+                        }
+                        self.out.push(*item);
+                    }
+                }
+                ControlFlow::Continue(())
+            }
+            Node::Inner {
+                axis,
+                cut,
+                left,
+                right,
+            } => {
+                let axis = axis as usize;
+                let saved = residual[axis];
+                let delta = self.center[axis] - cut;
+                let (near, far) = if delta < 0.0 {
+                    (left, right)
+                } else {
+                    (right, left)
+                };
+                self.visit(near, residual)?;
+                residual[axis] = delta * delta;
+                if self.radius2 >= residual[0] + residual[1] + residual[2] {
+                    self.visit(far, residual)?;
+                }
+                residual[axis] = saved;
+                ControlFlow::Continue(())
+            }
+        }
+    }
+}
+
+/// Squared distance, accumulated over the axes in the order x, y, z (Kratos' order; the
+/// brute-force reference uses the same function so that both agree bit for bit).
+pub(crate) fn distance2(p: &Point, q: &Point) -> Real {
+    let mut sum = 0.0;
+    for k in 0..3 {
+        let d = p[k] - q[k];
+        sum += d * d;
+    }
+    sum
+}

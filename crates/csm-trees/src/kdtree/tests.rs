@@ -1,0 +1,292 @@
+//! Unit tests of the kd-tree: construction invariants, Kratos' split and traversal order on
+//! hand-traced inputs, boundary semantics, truncation and typed errors.
+
+use csm_geometry::math::{Point, Real};
+
+use super::tree::{KdTree, Node};
+use crate::{ErrorKind, brute_force};
+
+fn p(x: Real, y: Real, z: Real) -> Point {
+    Point::new(x, y, z)
+}
+
+/// A deterministic pseudo-random cloud (64-bit LCG, fixed seed), coordinates in [-1, 1) on a
+/// 1/16 grid so that ties are frequent.
+fn lcg_cloud(n: usize, seed: u64) -> Vec<(usize, Point)> {
+    let mut state = seed;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((state >> 33) % 32) as Real / 16.0 - 1.0
+    };
+    (0..n).map(|i| (i, p(next(), next(), next()))).collect()
+}
+
+/// Walks the tree and checks: leaves are non-empty and hold at most `bucket_size` points,
+/// they cover every entry exactly once, and every split separates its subtrees.
+#[track_caller]
+fn check_invariants(tree: &KdTree<usize>) {
+    fn walk(tree: &KdTree<usize>, node: u32, covered: &mut Vec<u32>) -> (Point, Point) {
+        match tree.nodes[node as usize] {
+            Node::Leaf { start, end } => {
+                assert!(start < end, "empty leaf");
+                assert!((end - start) as usize <= tree.bucket_size, "overfull leaf");
+                covered.extend(start..end);
+                let pts = &tree.points[start as usize..end as usize];
+                let lo = pts.iter().fold(pts[0], |a, b| a.inf(b));
+                let hi = pts.iter().fold(pts[0], |a, b| a.sup(b));
+                (lo, hi)
+            }
+            Node::Inner {
+                axis,
+                cut,
+                left,
+                right,
+            } => {
+                let (llo, lhi) = walk(tree, left, covered);
+                let (rlo, rhi) = walk(tree, right, covered);
+                let axis = axis as usize;
+                assert!(lhi[axis] <= cut, "left point beyond the cut");
+                assert!(rlo[axis] >= cut, "right point before the cut");
+                (llo.inf(&rlo), lhi.sup(&rhi))
+            }
+        }
+    }
+    let mut covered = Vec::new();
+    if let Some(root) = tree.root {
+        walk(tree, root, &mut covered);
+    }
+    covered.sort_unstable();
+    let all: Vec<u32> = (0..tree.len() as u32).collect();
+    assert_eq!(covered, all);
+    let mut items: Vec<usize> = tree.items.clone();
+    items.sort_unstable();
+    assert_eq!(items, (0..tree.len()).collect::<Vec<_>>());
+}
+
+#[test]
+fn construction_invariants_hold_for_every_bucket_size() {
+    for n in [0, 1, 2, 3, 5, 17, 100, 333] {
+        for bucket in 1..=6 {
+            let entries = lcg_cloud(n, 0x5eed + n as u64);
+            let tree = KdTree::new(&entries, bucket).unwrap();
+            assert_eq!(tree.len(), n);
+            check_invariants(&tree);
+        }
+    }
+}
+
+#[test]
+fn identical_points_split_into_buckets() {
+    let entries: Vec<(usize, Point)> = (0..50).map(|i| (i, p(1.0, 2.0, 3.0))).collect();
+    let tree = KdTree::new(&entries, 4).unwrap();
+    check_invariants(&tree);
+    let mut out = Vec::new();
+    tree.in_box(&p(1.0, 2.0, 3.0), &p(1.0, 2.0, 3.0), 100, &mut out)
+        .unwrap();
+    assert_eq!(out.len(), 50);
+}
+
+/// Hand trace of Kratos' build on x = [3, 1, 2] with bucket 1 (reference §6.1): the
+/// quickselect gives [1, 2, 3] with the median 2 at position 1; the cut slip gives cut = 2 at
+/// the root and cut = 3 in the right subtree. A radius query from x = 2.6 visits the right
+/// subtree first (2.6 − 2 >= 0), within it the left leaf first (2.6 − 3 < 0).
+#[test]
+fn split_and_traversal_order_follow_kratos() {
+    let entries = [
+        (0, p(3.0, 0.0, 0.0)),
+        (1, p(1.0, 0.0, 0.0)),
+        (2, p(2.0, 0.0, 0.0)),
+    ];
+    let tree = KdTree::new(&entries, 1).unwrap();
+    let stored: Vec<usize> = tree.iter().map(|(i, _)| *i).collect();
+    assert_eq!(stored, [1, 2, 0]);
+    match tree.nodes[tree.root.unwrap() as usize] {
+        Node::Inner { axis, cut, .. } => assert_eq!((axis, cut), (0, 2.0)),
+        Node::Leaf { .. } => panic!("root should be a split"),
+    }
+    let mut out = Vec::new();
+    tree.in_radius(&p(2.6, 0.0, 0.0), 10.0, 10, &mut out)
+        .unwrap();
+    assert_eq!(out, [2, 0, 1]);
+    tree.in_box(&p(0.0, -1.0, -1.0), &p(5.0, 1.0, 1.0), 10, &mut out)
+        .unwrap();
+    assert_eq!(out, [1, 2, 0]);
+}
+
+/// The spread ties go to the lowest axis; a larger spread on z wins.
+#[test]
+fn split_axis_is_the_widest() {
+    let square = [
+        (0, p(0.0, 0.0, 0.0)),
+        (1, p(1.0, 1.0, 0.0)),
+        (2, p(1.0, 0.0, 0.0)),
+    ];
+    let tree = KdTree::new(&square, 1).unwrap();
+    assert!(matches!(tree.nodes[0], Node::Inner { axis: 0, .. }));
+    let tall = [
+        (0, p(0.0, 0.0, 0.0)),
+        (1, p(1.0, 1.0, 5.0)),
+        (2, p(1.0, 0.0, 2.0)),
+    ];
+    let tree = KdTree::new(&tall, 1).unwrap();
+    assert!(matches!(tree.nodes[0], Node::Inner { axis: 2, .. }));
+}
+
+#[test]
+fn radius_is_strict_and_box_is_inclusive() {
+    let entries = [
+        (0, p(1.0, 0.0, 0.0)),
+        (1, p(0.0, 0.0, 0.0)),
+        (2, p(0.5, 0.5, 0.0)),
+    ];
+    let tree = KdTree::new(&entries, 1).unwrap();
+    let mut out = Vec::new();
+    tree.in_radius(&p(0.0, 0.0, 0.0), 1.0, 10, &mut out)
+        .unwrap();
+    out.sort_unstable();
+    assert_eq!(
+        out,
+        [1, 2],
+        "the point at distance exactly 1 is not inside radius 1"
+    );
+    tree.in_radius(&p(0.0, 0.0, 0.0), 0.0, 10, &mut out)
+        .unwrap();
+    assert!(
+        out.is_empty(),
+        "radius 0 finds nothing, not even the centre"
+    );
+    tree.in_box(&p(0.5, 0.0, 0.0), &p(1.0, 0.5, 0.0), 10, &mut out)
+        .unwrap();
+    out.sort_unstable();
+    assert_eq!(out, [0, 2], "points on the faces are inside");
+    tree.in_box(&p(0.5, 0.5, 0.0), &p(0.5, 0.5, 0.0), 10, &mut out)
+        .unwrap();
+    assert_eq!(
+        out,
+        [2],
+        "a box with min == max finds the point at that corner"
+    );
+    tree.in_box(&p(1.0, 0.0, 0.0), &p(0.0, 1.0, 1.0), 10, &mut out)
+        .unwrap();
+    assert!(out.is_empty(), "an inverted box finds nothing");
+}
+
+#[test]
+fn truncation_keeps_the_first_hits_and_reports_it() {
+    let entries: Vec<(usize, Point)> = lcg_cloud(40, 7);
+    let tree = KdTree::new(&entries, 4).unwrap();
+    let mut all = Vec::new();
+    tree.in_radius(&p(0.0, 0.0, 0.0), 3.0, usize::MAX, &mut all)
+        .unwrap();
+    assert_eq!(all.len(), 40);
+    let mut out = Vec::new();
+    for cap in [0, 1, 5, 39, 40, 41] {
+        let status = tree
+            .in_radius(&p(0.0, 0.0, 0.0), 3.0, cap, &mut out)
+            .unwrap();
+        assert_eq!(out.len(), cap.min(40));
+        assert_eq!(status.truncated, cap < 40);
+        assert_eq!(
+            out[..],
+            all[..out.len()],
+            "the first hits in traversal order"
+        );
+    }
+}
+
+#[test]
+fn refit_starts_from_the_permuted_order() {
+    let entries = lcg_cloud(60, 99);
+    let mut refitted = KdTree::new(&entries, 3).unwrap();
+    let permuted: Vec<(usize, Point)> = refitted.iter().map(|(i, q)| (*i, *q)).collect();
+    let rebuilt = KdTree::new(&permuted, 3).unwrap();
+    refitted.refit(|i| entries[i].1).unwrap();
+    let order = |t: &KdTree<usize>| t.iter().map(|(i, _)| *i).collect::<Vec<_>>();
+    assert_eq!(order(&refitted), order(&rebuilt));
+    check_invariants(&refitted);
+}
+
+#[test]
+fn rebuild_reuses_and_replaces() {
+    let mut tree = KdTree::new(&lcg_cloud(100, 1), 4).unwrap();
+    let fewer = lcg_cloud(10, 2);
+    tree.rebuild(&fewer).unwrap();
+    assert_eq!(tree.len(), 10);
+    check_invariants(&tree);
+    let mut out = Vec::new();
+    let mut expected = Vec::new();
+    tree.in_radius(&p(0.0, 0.0, 0.0), 0.9, usize::MAX, &mut out)
+        .unwrap();
+    brute_force::in_radius(&fewer, &p(0.0, 0.0, 0.0), 0.9, &mut expected);
+    out.sort_unstable();
+    assert_eq!(out, expected);
+}
+
+/// Coordinates near `Real::MAX`: the cut value must not overflow to infinity.
+#[test]
+fn extreme_coordinates_keep_valid_cuts() {
+    let big = Real::MAX / 1.5;
+    let entries: Vec<(usize, Point)> = (0..9)
+        .map(|i| (i, p(big / 2.0 * (i % 3) as Real + big / 4.0, 0.0, -big)))
+        .collect();
+    let tree = KdTree::new(&entries, 1).unwrap();
+    check_invariants(&tree);
+    let mut out = Vec::new();
+    tree.in_box(
+        &p(-Real::MAX, -1.0, -Real::MAX),
+        &p(Real::MAX, 1.0, Real::MAX),
+        100,
+        &mut out,
+    )
+    .unwrap();
+    assert_eq!(out.len(), 9);
+}
+
+#[test]
+fn degenerate_input_gives_typed_errors() {
+    let good = [(0usize, p(0.0, 0.0, 0.0))];
+    let err = KdTree::new(&good, 0).unwrap_err();
+    assert_eq!(err.kind(), &ErrorKind::ZeroBucketSize);
+    assert!(!err.to_string().is_empty());
+
+    let nan = [(0usize, p(0.0, Real::NAN, 0.0))];
+    assert!(matches!(
+        KdTree::new(&nan, 4).unwrap_err().kind(),
+        ErrorKind::NonFinite { .. }
+    ));
+    let inf = [(0usize, p(Real::INFINITY, 0.0, 0.0))];
+    assert!(KdTree::new(&inf, 4).is_err());
+
+    let mut tree = KdTree::new(&good, 4).unwrap();
+    assert!(tree.rebuild(&nan).is_err());
+    assert_eq!(tree.len(), 1, "a failed rebuild leaves the tree unchanged");
+    assert!(tree.set_bucket_size(0).is_err());
+
+    let mut out = vec![7];
+    let origin = p(0.0, 0.0, 0.0);
+    let bad = p(Real::NAN, 0.0, 0.0);
+    assert!(tree.in_radius(&bad, 1.0, 10, &mut out).is_err());
+    assert!(out.is_empty(), "the buffer is cleared even on error");
+    assert!(tree.in_radius(&origin, Real::NAN, 10, &mut out).is_err());
+    assert_eq!(
+        tree.in_radius(&origin, -1.0, 10, &mut out)
+            .unwrap_err()
+            .kind(),
+        &ErrorKind::NegativeRadius
+    );
+    assert!(tree.in_box(&bad, &origin, 10, &mut out).is_err());
+    assert!(tree.in_box(&origin, &bad, 10, &mut out).is_err());
+
+    assert!(tree.refit(|_| bad).is_err());
+    assert!(tree.is_empty(), "a failed refit empties the tree");
+}
+
+#[test]
+fn kratos_bucket_size_is_four() {
+    let tree = KdTree::with_kratos_bucket_size(&lcg_cloud(10, 3)).unwrap();
+    assert_eq!(tree.bucket_size(), 4);
+    assert!(tree.n_nodes() >= 3);
+    assert!(tree.bounds().is_some());
+}

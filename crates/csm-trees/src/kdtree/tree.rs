@@ -1,0 +1,181 @@
+//! The kd-tree type: storage, construction entry points and accessors.
+
+use csm_geometry::math::{Point, Real};
+
+use crate::aabb::Aabb;
+use crate::error::{Error, ErrorKind, check_point};
+
+use super::build;
+
+/// Kratos' default leaf size (`bucket_size`, reference Appendix B).
+pub(crate) const KRATOS_BUCKET_SIZE: usize = 4;
+
+/// A node of the tree, stored in one arena. Children of an inner node are never empty (with
+/// `bucket_size >= 1` both halves of a split hold at least one point).
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Node {
+    /// A bucket: the entries `start..end` of the permuted entry arrays, in stored order.
+    Leaf { start: u32, end: u32 },
+    /// A split on `axis` at `cut`: points of `left` have coordinate `<= cut`, those of `right`
+    /// `>= cut`.
+    Inner {
+        axis: u8,
+        cut: Real,
+        left: u32,
+        right: u32,
+    },
+}
+
+/// A bucketed kd-tree over `(item, point)` entries, built once and queried many times.
+///
+/// Items are opaque `Copy` ids (`T`); the tree knows nothing about what they are.
+///
+/// Construction follows Kratos (reference §6.1): a range of more than `bucket_size` points is
+/// split on the axis of largest spread at its median (Kratos' Hoare quickselect, reproduced
+/// literally, including the cut-value slip), so for the same input order the tree, and hence
+/// the traversal order of the queries, is Kratos'. The entries are permuted internally, like
+/// Kratos permutes the caller's point vector; [`KdTree::refit`] keeps that permutation between
+/// builds, as Kratos does from one search step to the next (Q13).
+///
+/// Queries: [`KdTree::in_radius`] (strict, `|p − c| < r`) and [`KdTree::in_box`] (inclusive),
+/// both with a result cap and a caller-owned output buffer.
+#[derive(Debug, Clone)]
+pub struct KdTree<T> {
+    /// The items, in the tree's (permuted) order.
+    pub(crate) items: Vec<T>,
+    /// The points, parallel to `items`.
+    pub(crate) points: Vec<Point>,
+    /// The node arena.
+    pub(crate) nodes: Vec<Node>,
+    /// The root node; `None` for an empty tree.
+    pub(crate) root: Option<u32>,
+    /// The maximum number of points in a leaf.
+    pub(crate) bucket_size: usize,
+}
+
+impl<T: Copy> KdTree<T> {
+    /// Builds the tree over `entries` with leaves of at most `bucket_size` points (Kratos'
+    /// default is 4, see [`KdTree::with_kratos_bucket_size`]).
+    ///
+    /// Errors: [`ErrorKind::ZeroBucketSize`], [`ErrorKind::NonFinite`] for a NaN or infinite
+    /// coordinate, [`ErrorKind::TooManyEntries`] beyond `u32::MAX / 2` entries. An empty slice
+    /// gives an empty tree.
+    pub fn new(entries: &[(T, Point)], bucket_size: usize) -> Result<KdTree<T>, Error> {
+        let mut tree = KdTree {
+            items: Vec::new(),
+            points: Vec::new(),
+            nodes: Vec::new(),
+            root: None,
+            bucket_size: KRATOS_BUCKET_SIZE,
+        };
+        tree.set_bucket_size(bucket_size)?;
+        tree.rebuild(entries)?;
+        Ok(tree)
+    }
+
+    /// [`KdTree::new`] with Kratos' default bucket size 4.
+    pub fn with_kratos_bucket_size(entries: &[(T, Point)]) -> Result<KdTree<T>, Error> {
+        KdTree::new(entries, KRATOS_BUCKET_SIZE)
+    }
+
+    /// Rebuilds the tree from scratch over `entries` (in their given order), reusing the
+    /// allocations of the previous build. On error the tree is left unchanged.
+    pub fn rebuild(&mut self, entries: &[(T, Point)]) -> Result<(), Error> {
+        check_len(entries.len())?;
+        for (_, p) in entries {
+            check_point(p, "point")?;
+        }
+        self.items.clear();
+        self.points.clear();
+        self.items.extend(entries.iter().map(|(item, _)| *item));
+        self.points.extend(entries.iter().map(|(_, p)| *p));
+        self.build_in_place();
+        Ok(())
+    }
+
+    /// Moves every stored point to `position(item)` and rebuilds the tree in place, keeping the
+    /// current (permuted) entry order as the starting order, like Kratos' `UpdatePoint()` on
+    /// the permuted point list followed by a new build (reference §6.1, Q13).
+    ///
+    /// Errors: [`ErrorKind::NonFinite`] if a new position is NaN or infinite; the tree is then
+    /// left empty (every entry is dropped), so a failed refit can never be queried by mistake.
+    pub fn refit(&mut self, mut position: impl FnMut(T) -> Point) -> Result<(), Error> {
+        for (item, p) in self.items.iter().zip(self.points.iter_mut()) {
+            *p = position(*item);
+        }
+        let all_finite = self
+            .points
+            .iter()
+            .all(|p| p.coords.iter().all(|c| c.is_finite()));
+        if !all_finite {
+            self.items.clear();
+            self.points.clear();
+            self.nodes.clear();
+            self.root = None;
+            return Err(Error::non_finite("point"));
+        }
+        self.build_in_place();
+        Ok(())
+    }
+
+    /// Changes the bucket size used by the next [`KdTree::rebuild`] or [`KdTree::refit`].
+    pub fn set_bucket_size(&mut self, bucket_size: usize) -> Result<(), Error> {
+        if bucket_size == 0 {
+            return Err(Error::new(ErrorKind::ZeroBucketSize));
+        }
+        self.bucket_size = bucket_size;
+        Ok(())
+    }
+
+    fn build_in_place(&mut self) {
+        self.nodes.clear();
+        self.root = build::build(
+            &mut self.items,
+            &mut self.points,
+            &mut self.nodes,
+            self.bucket_size,
+        );
+    }
+}
+
+impl<T> KdTree<T> {
+    /// The number of entries.
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    /// Whether the tree holds no entry.
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
+    }
+
+    /// The maximum number of points in a leaf.
+    pub fn bucket_size(&self) -> usize {
+        self.bucket_size
+    }
+
+    /// The number of nodes (leaves and inner nodes).
+    pub fn n_nodes(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// The entries in the tree's internal (permuted) order: leaves left to right, each bucket
+    /// in stored order.
+    pub fn iter(&self) -> impl Iterator<Item = (&T, &Point)> + '_ {
+        self.items.iter().zip(self.points.iter())
+    }
+
+    /// The bounding box of all points; `None` for an empty tree.
+    pub fn bounds(&self) -> Option<Aabb> {
+        Aabb::from_points(self.points.iter())
+    }
+}
+
+/// Checks that `n` entries and their `< 2n` nodes can be indexed with `u32`.
+fn check_len(n: usize) -> Result<(), Error> {
+    if n <= (u32::MAX / 2) as usize {
+        Ok(())
+    } else {
+        Err(Error::new(ErrorKind::TooManyEntries))
+    }
+}

@@ -1,0 +1,41 @@
+//! Insertion of objects into the leaves they overlap (Kratos `OctreeBinary::Insert(object)`).
+
+use crate::aabb::Aabb;
+use crate::error::Error;
+
+use super::tree::Octree;
+
+impl<T: Copy> Octree<T> {
+    /// Stores `item` in every leaf whose box, grown by the cell tolerance, overlaps `aabb`
+    /// (inclusive). The candidate leaves are found as in Kratos: from the smallest cell
+    /// containing the keys of the box corners, down through the children whose normalised
+    /// boxes overlap the normalised `aabb` (inclusive). A box outside the root box is stored
+    /// nowhere; one partly outside is stored in the boundary leaves it overlaps.
+    ///
+    /// Errors: [`crate::ErrorKind::NonFinite`], [`crate::ErrorKind::InvertedBox`].
+    pub fn insert(&mut self, item: T, aabb: &Aabb) -> Result<(), Error> {
+        let query = *aabb;
+        self.insert_with(item, aabb, |cell| cell.intersects(&query))
+    }
+
+    /// [`Octree::insert`] with the caller's object-vs-cell test in place of the box test:
+    /// `item` is stored in every candidate leaf (found with `aabb`, the object's bounding
+    /// box) for which `overlaps(cell)` holds, `cell` being the leaf box in real coordinates
+    /// grown by the cell tolerance (Kratos: `IsIntersected` → triangle/box, segment/box, …).
+    pub fn insert_with(
+        &mut self,
+        item: T,
+        aabb: &Aabb,
+        mut overlaps: impl FnMut(&Aabb) -> bool,
+    ) -> Result<(), Error> {
+        aabb.validate()?;
+        // The leaves are collected first (read-only walk), then filled.
+        let mut hits = Vec::new();
+        self.for_each_intersected_leaf(aabb, &mut overlaps, |leaf| hits.push(leaf));
+        for leaf in hits {
+            self.cells[leaf as usize].objects.push(item);
+        }
+        self.n_objects += 1;
+        Ok(())
+    }
+}
