@@ -7,6 +7,9 @@ Fixtures written:
   nodal_h/<mesh>.json  NODAL_H of every node after FindNodalHProcess on the root model part
                        (Kratos' reading of §17.3 / Q40), keyed by node id; nodes in no element
                        are written as null (Kratos leaves DBL_MAX).
+  faces.json           the node order of the conditions InterfacePreprocessCondition generates
+                       on one element of each solid kind (Kratos' GenerateBoundariesEntities
+                       order), as local node indices.
   normals/<mesh>.json  after NormalCalculationUtils().CalculateUnitNormals on the root model
                        part (conditions): the condition NORMAL (non-historical) per condition id
                        and the nodal NORMAL (historical) per node id of the conditions.
@@ -46,6 +49,37 @@ def vec(v):
     return [float(v[0]), float(v[1]), float(v[2])]
 
 
+FACE_CASES = {
+    "Tetrahedra3D4": ("Element3D4N", [1, 2, 4, 5], 3),
+    "Hexahedra3D8": ("Element3D8N", [1, 2, 3, 4, 5, 6, 7, 8], 3),
+    "Prism3D6": ("Element3D6N", [1, 2, 4, 5, 6, 8], 3),
+    "Triangle2D3": ("Element2D3N", [1, 2, 4], 2),
+    "Quadrilateral2D4": ("Element2D4N", [1, 2, 3, 4], 2),
+}
+CUBE = {1: (0, 0, 0), 2: (1, 0, 0), 3: (1, 1, 0), 4: (0, 1, 0),
+        5: (0, 0, 1), 6: (1, 0, 1), 7: (1, 1, 1), 8: (0, 1, 1)}
+
+
+def faces():
+    import KratosMultiphysics.ContactStructuralMechanicsApplication as CSMA
+    out = {}
+    for name, (element, ids, dim) in FACE_CASES.items():
+        model = KM.Model()
+        mp = model.CreateModelPart("M")
+        mp.ProcessInfo[KM.DOMAIN_SIZE] = dim
+        for i in ids:
+            mp.CreateNewNode(i, *CUBE[i])
+        mp.CreateNewElement(element, 1, ids, mp.CreateNewProperties(1))
+        part = mp.CreateSubModelPart("P")
+        part.AddNodes(ids)
+        for node in mp.Nodes:
+            node.Set(KM.INTERFACE, True)
+        params = KM.Parameters('{"simplify_geometry": false}')
+        CSMA.InterfacePreprocessCondition(mp).GenerateInterfacePart(part, params)
+        out[name] = [[ids.index(n.Id) for n in c.GetNodes()] for c in mp.Conditions]
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--shared", default=os.path.join(os.path.dirname(__file__), "..", "..", "shared"))
@@ -54,6 +88,8 @@ def main():
     data = os.path.join(args.shared, "data", "kratos-tests")
     for sub in ("nodal_h", "normals"):
         os.makedirs(os.path.join(args.out, sub), exist_ok=True)
+    write(os.path.join(args.out, "faces.json"),
+          {"kratos": KM.KratosGlobals.Kernel.Version(), "faces": faces()})
     for name in MESHES:
         model, mp = read(os.path.join(data, name))
         KM.FindNodalHProcess(mp).Execute()

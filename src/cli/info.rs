@@ -46,9 +46,15 @@ fn part_info(model: &ModelPart, part: PartIdx) -> PartInfo {
         nodes: p.nodes().len(),
         elements: p.elements().len(),
         conditions: p.conditions().len(),
-        element_kinds: count_kinds(p.elements().iter().map(|e| model.elements().kind(e.index()))),
+        element_kinds: count_kinds(
+            p.elements()
+                .iter()
+                .map(|e| model.elements().kind(e.index())),
+        ),
         condition_kinds: count_kinds(
-            p.conditions().iter().map(|c| model.conditions().kind(c.index())),
+            p.conditions()
+                .iter()
+                .map(|c| model.conditions().kind(c.index())),
         ),
     }
 }
@@ -69,12 +75,23 @@ pub fn mesh_info(model: &ModelPart) -> MeshInfo {
         })
         .collect();
     let domain_size = model.process_info().number("DOMAIN_SIZE").map(|d| d as u32);
-    MeshInfo { total, domain_size, parts }
+    MeshInfo {
+        total,
+        domain_size,
+        parts,
+    }
 }
 
 fn kinds_text(kinds: &BTreeMap<GeometryKind, usize>) -> String {
-    let v: Vec<String> = kinds.iter().map(|(k, n)| format!("{} ×{n}", k.name())).collect();
-    if v.is_empty() { "-".to_owned() } else { v.join(", ") }
+    let v: Vec<String> = kinds
+        .iter()
+        .map(|(k, n)| format!("{} ×{n}", k.name()))
+        .collect();
+    if v.is_empty() {
+        "-".to_owned()
+    } else {
+        v.join(", ")
+    }
 }
 
 impl MeshInfo {
@@ -116,7 +133,10 @@ impl MeshInfo {
     /// The human-readable report of `csm info`.
     pub fn to_text(&self, mesh_name: &str) -> String {
         let mut s = String::new();
-        let dim = self.domain_size.map(|d| format!("{d}D")).unwrap_or_else(|| "?D".to_owned());
+        let dim = self
+            .domain_size
+            .map(|d| format!("{d}D"))
+            .unwrap_or_else(|| "?D".to_owned());
         // Writing to a String cannot fail.
         let _ = writeln!(
             s,
@@ -124,7 +144,11 @@ impl MeshInfo {
             self.total.nodes, self.total.elements, self.total.conditions
         );
         let _ = writeln!(s, "  elements:   {}", kinds_text(&self.total.element_kinds));
-        let _ = writeln!(s, "  conditions: {}", kinds_text(&self.total.condition_kinds));
+        let _ = writeln!(
+            s,
+            "  conditions: {}",
+            kinds_text(&self.total.condition_kinds)
+        );
         if self.parts.is_empty() {
             let _ = writeln!(s, "no sub model parts");
             return s;

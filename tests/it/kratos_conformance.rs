@@ -24,29 +24,37 @@ const MESHES: [&str; 4] = [
     "test_double_curvature_integration_quadrilateral",
 ];
 
-/// NODAL_H in `Kratos` mode equals FindNodalHProcess bit for bit (Q40 included); nodes in no
-/// element keep DBL_MAX (null in the fixture).
+/// NODAL_H in `Kratos` mode equals Kratos 10.4.4's FindNodalHProcess bit for bit; nodes in no
+/// element keep DBL_MAX (null in the fixture). The reference's Q40 (stale read) does not
+/// match 10.4.4: on these meshes it differs from the fixture on many nodes.
 #[test]
 fn nodal_h_matches_find_nodal_h_process() {
     for mesh in MESHES {
         let model = csm::io::read_mesh(&kratos_mesh(&format!("{mesh}.mdpa"))).unwrap();
         let h = compute_nodal_h(&model, None, NodalHMode::Kratos);
-        let exact = compute_nodal_h(&model, None, NodalHMode::MinimumDistance);
+        let edge = compute_nodal_h(&model, None, NodalHMode::MinimumEdge);
+        let stale = compute_nodal_h(&model, None, NodalHMode::StaleRead);
         let expected = fixture("nodal_h", mesh);
         let expected = expected["nodal_h"].as_object().unwrap();
         assert_eq!(expected.len(), model.nodes().len(), "{mesh}: node count");
-        let mut n_lower = 0;
+        let mut n_stale = 0;
         for (i, id) in model.nodes().ids().iter().enumerate() {
             let want = &expected[&id.to_string()];
             match want.as_f64() {
                 None => assert_eq!(h[i], f64::MAX, "{mesh}: node {id} should keep DBL_MAX"),
                 Some(w) => assert_eq!(h[i], w, "{mesh}: NODAL_H of node {id}"),
             }
-            assert!(exact[i] <= h[i], "{mesh}: the true minimum is never larger");
-            n_lower += usize::from(exact[i] < h[i]);
+            assert!(h[i] <= edge[i], "{mesh}: all node pairs include the edges");
+            assert!(
+                h[i] <= stale[i],
+                "{mesh}: the stale read can only lose pairs"
+            );
+            n_stale += usize::from(stale[i] != h[i]);
         }
-        // On these meshes Q40 changes some nodes; record that the two modes differ.
-        eprintln!("{mesh}: {n_lower} nodes where Q40 loses the minimum edge");
+        assert!(
+            n_stale > 0,
+            "{mesh}: Q40 should differ from Kratos 10.4.4 somewhere"
+        );
     }
 }
 
@@ -56,7 +64,12 @@ fn nodal_h_matches_find_nodal_h_process() {
 fn unit_normals_fail_where_kratos_fails() {
     let mesh = "3D_contact_patch_nonmatching_test";
     let expected = fixture("normals", mesh);
-    assert!(expected["error"].as_str().unwrap().contains("normal norm is zero"));
+    assert!(
+        expected["error"]
+            .as_str()
+            .unwrap()
+            .contains("normal norm is zero")
+    );
     let mut model = csm::io::read_mesh(&kratos_mesh(&format!("{mesh}.mdpa"))).unwrap();
     let e = compute_unit_normals(&mut model, None, NormalsMode::Kratos).unwrap_err();
     assert!(e.to_string().contains("condition"), "{e}");

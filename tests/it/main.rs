@@ -8,17 +8,24 @@ use std::process::{Command, Output};
 
 /// `../shared/data/kratos-tests/<name>` beside the clone (CI has it).
 pub fn kratos_mesh(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/kratos-tests").join(name)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/data/kratos-tests")
+        .join(name)
 }
 
 /// `tests/data/<name>` in the repository.
 pub fn repo_mesh(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
 }
 
 /// Runs the `csm` binary with `args`.
 pub fn csm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_csm")).args(args).output().expect("the csm binary runs")
+    Command::new(env!("CARGO_BIN_EXE_csm"))
+        .args(args)
+        .output()
+        .expect("the csm binary runs")
 }
 
 /// A fresh scratch file path under the target directory's temp area.

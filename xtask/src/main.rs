@@ -58,7 +58,17 @@ const TEST_ENV: [(&str, &str); 2] = [("CI", "true"), ("INSTA_UPDATE", "no")];
 
 fn ci() -> Result<()> {
     cargo(&["fmt", "--all", "--", "--check"], &[])?;
-    cargo(&["clippy", "--workspace", "--all-targets", "--", "-D", "warnings"], &[])?;
+    cargo(
+        &[
+            "clippy",
+            "--workspace",
+            "--all-targets",
+            "--",
+            "-D",
+            "warnings",
+        ],
+        &[],
+    )?;
     cargo(&["test", "--workspace", "--all-targets"], &TEST_ENV)?;
     eprintln!("xtask ci: all checks passed");
     Ok(())

@@ -11,13 +11,23 @@ use super::workspace_root;
 /// DESIGN.md §1: geometry ← trees; geometry ← model ← io; {geometry, model} ← activation;
 /// {geometry, trees, model, activation} ← search; everything ← facade.
 fn allowed() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
-    let all = ["csm-geometry", "csm-trees", "csm-model", "csm-io", "csm-search", "csm-activation"];
+    let all = [
+        "csm-geometry",
+        "csm-trees",
+        "csm-model",
+        "csm-io",
+        "csm-search",
+        "csm-activation",
+    ];
     BTreeMap::from([
         ("csm-geometry", BTreeSet::new()),
         ("csm-trees", BTreeSet::from(["csm-geometry"])),
         ("csm-model", BTreeSet::from(["csm-geometry"])),
         ("csm-io", BTreeSet::from(["csm-geometry", "csm-model"])),
-        ("csm-activation", BTreeSet::from(["csm-geometry", "csm-model"])),
+        (
+            "csm-activation",
+            BTreeSet::from(["csm-geometry", "csm-model"]),
+        ),
         (
             "csm-search",
             BTreeSet::from(["csm-geometry", "csm-trees", "csm-model", "csm-activation"]),
@@ -28,11 +38,21 @@ fn allowed() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
 
 fn metadata() -> serde_json::Value {
     let out = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned()))
-        .args(["metadata", "--format-version", "1", "--no-deps", "--offline"])
+        .args([
+            "metadata",
+            "--format-version",
+            "1",
+            "--no-deps",
+            "--offline",
+        ])
         .current_dir(workspace_root())
         .output()
         .expect("cargo metadata runs");
-    assert!(out.status.success(), "cargo metadata failed: {}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "cargo metadata failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     serde_json::from_slice(&out.stdout).expect("cargo metadata prints JSON")
 }
 
@@ -50,25 +70,41 @@ fn layers_depend_only_downwards() {
             continue;
         }
         let Some(ok) = allowed.get(name) else {
-            violations.push(format!("{name}: not in the layering allow-list of xtask/src/tidy.rs"));
+            violations.push(format!(
+                "{name}: not in the layering allow-list of xtask/src/tidy.rs"
+            ));
             continue;
         };
-        for dep in package["dependencies"].as_array().expect("dependencies array") {
+        for dep in package["dependencies"]
+            .as_array()
+            .expect("dependencies array")
+        {
             let dep_name = dep["name"].as_str().expect("dependency name");
             let is_layer = dep_name == "csm" || dep_name.starts_with("csm-");
             if is_layer && !ok.contains(dep_name) {
-                violations.push(format!("{name} -> {dep_name} is a back-edge or a skipped layer"));
+                violations.push(format!(
+                    "{name} -> {dep_name} is a back-edge or a skipped layer"
+                ));
             }
         }
     }
-    assert!(violations.is_empty(), "layering violations:\n{}", violations.join("\n"));
+    assert!(
+        violations.is_empty(),
+        "layering violations:\n{}",
+        violations.join("\n")
+    );
     for name in allowed.keys() {
-        assert!(seen.contains(*name), "crate {name} of the design card is missing");
+        assert!(
+            seen.contains(*name),
+            "crate {name} of the design card is missing"
+        );
     }
 }
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
     for entry in entries.flatten() {
         let path = entry.path();
         if path.is_dir() {
@@ -86,7 +122,10 @@ fn every_source_file_opens_with_a_doc() {
     let mut files = Vec::new();
     rust_files(&root.join("src"), &mut files);
     rust_files(&root.join("xtask/src"), &mut files);
-    for krate in std::fs::read_dir(root.join("crates")).expect("crates dir").flatten() {
+    for krate in std::fs::read_dir(root.join("crates"))
+        .expect("crates dir")
+        .flatten()
+    {
         rust_files(&krate.path().join("src"), &mut files);
     }
     assert!(files.len() > 10, "found only {} source files", files.len());
@@ -99,14 +138,21 @@ fn every_source_file_opens_with_a_doc() {
         })
         .map(|f| f.strip_prefix(&root).unwrap_or(f).display().to_string())
         .collect();
-    assert!(missing.is_empty(), "files without a leading `//!` doc:\n{}", missing.join("\n"));
+    assert!(
+        missing.is_empty(),
+        "files without a leading `//!` doc:\n{}",
+        missing.join("\n")
+    );
 }
 
 /// Every layer's `lib.rs` states its architecture invariant.
 #[test]
 fn every_layer_states_its_invariant() {
     let root = workspace_root();
-    for krate in std::fs::read_dir(root.join("crates")).expect("crates dir").flatten() {
+    for krate in std::fs::read_dir(root.join("crates"))
+        .expect("crates dir")
+        .flatten()
+    {
         let lib = krate.path().join("src/lib.rs");
         let text = std::fs::read_to_string(&lib).unwrap_or_default();
         assert!(

@@ -3,6 +3,12 @@
 //! Every node starts at `f64::MAX`; each element of the part lowers the values of its nodes
 //! with the distances between its nodes. Conditions are ignored; nodes in no element keep
 //! `f64::MAX` (reference Q33: that value then propagates into means and maxima).
+//!
+//! Kratos 10.4.4 (the pip build) keeps a true running minimum over every pair of nodes of
+//! every element: `tests/fixtures/nodal_h` (made by `cargo xtask fixtures`) shows it bit for
+//! bit on Kratos' own meshes. The reference's Q40 describes a stale read that keeps only the
+//! last pair per node; that reading of the sources does not match 10.4.4 (precedence: the pip
+//! build), and is kept as [`NodalHMode::StaleRead`] for the revisions that have it.
 
 use csm_geometry::math::Real;
 
@@ -11,14 +17,19 @@ use crate::{ModelPart, NodeIdx, PartIdx, ScalarVar};
 /// How NODAL_H is computed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum NodalHMode {
-    /// Kratos 10.4.4 literally (reference §17.3, Q40): for node `k` of an element, its value
-    /// is read once before the loop over the later nodes `l > k` and overwritten by
-    /// `min(h_k_before, d_kl)` at each `l`, so within one element only the pair `(k, n−1)`
-    /// counts for `k`; node `l` keeps a correct running minimum.
+    /// What Kratos 10.4.4 computes: the minimum distance from the node to any other node of
+    /// any element containing it (all node pairs of the element, diagonals included), each
+    /// distance `|X_l − X_k|` evaluated as `sqrt(dx·dx + dy·dy + dz·dz)`.
     #[default]
     Kratos,
-    /// The true minimum edge (node-to-node) distance over every element containing the node.
-    MinimumDistance,
+    /// The reference's reading of the current Kratos sources (§17.3, Q40): node `k`'s value is
+    /// read once before the loop over `l > k` and overwritten by `min(h_k_before, d_kl)`, so
+    /// within one element only the pair `(k, n−1)` counts for `k`. Not what 10.4.4 does.
+    StaleRead,
+    /// The minimum length of the element edges containing the node (corner to corner along
+    /// the geometry's edges; diagonals and interior pairs ignored) — the quantity NODAL_H is
+    /// meant to be.
+    MinimumEdge,
 }
 
 /// Computes NODAL_H for every node of `model` from the elements of `part` (the whole model
@@ -27,29 +38,46 @@ pub fn compute_nodal_h(model: &ModelPart, part: Option<PartIdx>, mode: NodalHMod
     let coords = model.nodes().coordinates();
     let mut h = vec![Real::MAX; coords.len()];
     let elements = model.elements();
-    let mut visit = |nodes: &[NodeIdx]| {
-        let n = nodes.len();
-        for k in 0..n.saturating_sub(1) {
-            let ik = nodes[k].index();
-            let h_before = h[ik];
-            for &nl in &nodes[k + 1..] {
-                let il = nl.index();
-                let d = (coords[il] - coords[ik]).norm();
-                h[ik] = match mode {
-                    NodalHMode::Kratos => h_before.min(d),
-                    NodalHMode::MinimumDistance => h[ik].min(d),
-                };
-                h[il] = h[il].min(d);
+    let distance = |a: NodeIdx, b: NodeIdx| {
+        let d = coords[b.index()] - coords[a.index()];
+        (d.x * d.x + d.y * d.y + d.z * d.z).sqrt()
+    };
+    let mut visit = |e: usize| {
+        let nodes = elements.nodes(e);
+        match mode {
+            NodalHMode::Kratos | NodalHMode::StaleRead => {
+                for k in 0..nodes.len().saturating_sub(1) {
+                    let ik = nodes[k].index();
+                    let h_before = h[ik];
+                    for &nl in &nodes[k + 1..] {
+                        let d = distance(nodes[k], nl);
+                        let current = if mode == NodalHMode::Kratos {
+                            h[ik]
+                        } else {
+                            h_before
+                        };
+                        h[ik] = current.min(d);
+                        h[nl.index()] = h[nl.index()].min(d);
+                    }
+                }
+            }
+            NodalHMode::MinimumEdge => {
+                for [a, b] in elements.kind(e).edges() {
+                    let (na, nb) = (nodes[*a], nodes[*b]);
+                    let d = distance(na, nb);
+                    h[na.index()] = h[na.index()].min(d);
+                    h[nb.index()] = h[nb.index()].min(d);
+                }
             }
         }
     };
     match part {
-        None => (0..elements.len()).for_each(|e| visit(elements.nodes(e))),
+        None => (0..elements.len()).for_each(&mut visit),
         Some(p) => model
             .part(p)
             .elements()
             .iter()
-            .for_each(|e| visit(elements.nodes(e.index()))),
+            .for_each(|e| visit(e.index())),
     }
     h
 }

@@ -33,7 +33,9 @@ pub enum NormalsMode {
 fn conditions_of(model: &ModelPart, part: Option<PartIdx>) -> Vec<ConditionIdx> {
     match part {
         Some(p) => model.part(p).conditions().to_vec(),
-        None => (0..model.conditions().len() as u32).map(ConditionIdx).collect(),
+        None => (0..model.conditions().len() as u32)
+            .map(ConditionIdx)
+            .collect(),
     }
 }
 
@@ -92,9 +94,15 @@ pub fn compute_unit_normals(
     };
     let result = match mode {
         NormalsMode::Kratos => cond_normals.iter().try_for_each(|(c, _)| {
-            model.conditions().nodes(c.index()).iter().try_for_each(|n| normalise(n.index()))
+            model
+                .conditions()
+                .nodes(c.index())
+                .iter()
+                .try_for_each(|n| normalise(n.index()))
         }),
-        NormalsMode::Once => (0..n_nodes).filter(|&i| touched[i]).try_for_each(&mut normalise),
+        NormalsMode::Once => (0..n_nodes)
+            .filter(|&i| touched[i])
+            .try_for_each(&mut normalise),
     };
     if let Err(i) = result {
         let what = if model.nodes().flags()[i].is(Flag::INTERFACE) {
@@ -122,7 +130,11 @@ pub fn compute_unit_normals(
     }
     if let Some(column) = model.nodal_data_mut().vector_mut(VectorVar::Normal, 0) {
         for i in (0..n_nodes).filter(|&i| reset[i]) {
-            column[i] = if touched[i] { nodal[i] } else { Vector::zeros() };
+            column[i] = if touched[i] {
+                nodal[i]
+            } else {
+                Vector::zeros()
+            };
         }
     }
     Ok(())

@@ -25,9 +25,9 @@ fn triangle() -> ModelPart {
 }
 
 #[test]
-fn kratos_mode_keeps_only_the_last_pair_for_each_node_q40() {
+fn stale_read_mode_keeps_only_the_last_pair_for_each_node_q40() {
     // Reference §17.3: h0 = d02 (d01 lost), h1 = min(d01, d12), h2 = min(d02, d12).
-    let h = compute_nodal_h(&triangle(), None, NodalHMode::Kratos);
+    let h = compute_nodal_h(&triangle(), None, NodalHMode::StaleRead);
     assert_eq!(h[0], 4.0, "d01 = 3 is lost for node 0 (Q40)");
     assert_eq!(h[1], 3.0);
     assert_eq!(h[2], 4.0);
@@ -35,10 +35,42 @@ fn kratos_mode_keeps_only_the_last_pair_for_each_node_q40() {
 }
 
 #[test]
-fn minimum_distance_mode_is_the_true_minimum() {
-    let h = compute_nodal_h(&triangle(), None, NodalHMode::MinimumDistance);
-    assert_eq!(&h[..3], &[3.0, 3.0, 4.0]);
-    assert_eq!(h[3], f64::MAX);
+fn kratos_and_minimum_edge_modes_are_the_true_minimum_on_a_triangle() {
+    for mode in [NodalHMode::Kratos, NodalHMode::MinimumEdge] {
+        let h = compute_nodal_h(&triangle(), None, mode);
+        assert_eq!(&h[..3], &[3.0, 3.0, 4.0], "{mode:?}");
+        assert_eq!(h[3], f64::MAX);
+    }
+}
+
+#[test]
+fn minimum_edge_ignores_diagonals_of_a_distorted_quadrilateral() {
+    // A kite whose diagonal 1–3 (length 0.2) is shorter than every edge (about 1.02).
+    let mut mp = ModelPart::new("Structure");
+    let pts = [(0.0, 0.0), (1.0, -0.1), (2.0, 0.0), (1.0, 0.1)];
+    for (i, (x, y)) in pts.iter().enumerate() {
+        mp.add_node(NodeId(i as u32 + 1), Point::new(*x, *y, 0.0))
+            .unwrap();
+    }
+    let ids = [NodeId(1), NodeId(2), NodeId(3), NodeId(4)];
+    mp.add_element(
+        ElementId(1),
+        GeometryKind::Quadrilateral2D4,
+        "",
+        &ids,
+        PropertiesId(0),
+    )
+    .unwrap();
+    let kratos = compute_nodal_h(&mp, None, NodalHMode::Kratos);
+    let edge = compute_nodal_h(&mp, None, NodalHMode::MinimumEdge);
+    assert!(
+        (kratos[1] - 0.2).abs() < 1e-15,
+        "Kratos counts the diagonal"
+    );
+    assert!(
+        (edge[1] - (1.0f64 + 0.01).sqrt()).abs() < 1e-15,
+        "edges only"
+    );
 }
 
 #[test]

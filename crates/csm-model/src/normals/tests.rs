@@ -7,11 +7,13 @@ use crate::{ConditionId, NodeId, PropertiesId};
 fn model(points: &[[f64; 3]], conditions: &[(GeometryKind, &[u32])]) -> ModelPart {
     let mut mp = ModelPart::new("Structure");
     for (i, p) in points.iter().enumerate() {
-        mp.add_node(NodeId(i as u32 + 1), Point::new(p[0], p[1], p[2])).unwrap();
+        mp.add_node(NodeId(i as u32 + 1), Point::new(p[0], p[1], p[2]))
+            .unwrap();
     }
     for (i, (kind, nodes)) in conditions.iter().enumerate() {
         let ids: Vec<NodeId> = nodes.iter().map(|&n| NodeId(n)).collect();
-        mp.add_condition(ConditionId(i as u32 + 1), *kind, "", &ids, PropertiesId(0)).unwrap();
+        mp.add_condition(ConditionId(i as u32 + 1), *kind, "", &ids, PropertiesId(0))
+            .unwrap();
     }
     mp
 }
@@ -22,12 +24,22 @@ fn nodal(mp: &ModelPart) -> &[Vector] {
 
 #[track_caller]
 fn assert_close(a: &Vector, b: [f64; 3]) {
-    assert!((a - Vector::new(b[0], b[1], b[2])).norm() < 1e-14, "{a:?} != {b:?}");
+    assert!(
+        (a - Vector::new(b[0], b[1], b[2])).norm() < 1e-14,
+        "{a:?} != {b:?}"
+    );
 }
 
 #[test]
 fn flat_quad_patch_has_the_face_normal_everywhere() {
-    let pts = [[0., 0., 0.], [1., 0., 0.], [2., 0., 0.], [0., 1., 0.], [1., 1., 0.], [2., 1., 0.]];
+    let pts = [
+        [0., 0., 0.],
+        [1., 0., 0.],
+        [2., 0., 0.],
+        [0., 1., 0.],
+        [1., 1., 0.],
+        [2., 1., 0.],
+    ];
     let q = GeometryKind::Quadrilateral3D4;
     let mut mp = model(&pts, &[(q, &[1, 2, 5, 4]), (q, &[2, 3, 6, 5])]);
     for mode in [NormalsMode::Kratos, NormalsMode::Once] {
@@ -71,7 +83,14 @@ fn degenerate_faces_are_errors_not_nan() {
     let pts = [[0., 0., 0.], [1., 0., 0.], [2., 0., 0.]];
     let mut mp = model(&pts, &[(GeometryKind::Triangle3D3, &[1, 2, 3])]);
     let e = compute_unit_normals(&mut mp, None, NormalsMode::Kratos).unwrap_err();
-    assert!(matches!(e.kind(), ErrorKind::Geometry { entity: EntityKind::Condition, id: 1, .. }));
+    assert!(matches!(
+        e.kind(),
+        ErrorKind::Geometry {
+            entity: EntityKind::Condition,
+            id: 1,
+            ..
+        }
+    ));
 }
 
 #[test]
@@ -80,12 +99,25 @@ fn opposite_faces_cancel_into_an_error() {
     let t = GeometryKind::Triangle3D3;
     let mut mp = model(&pts, &[(t, &[1, 2, 3]), (t, &[1, 3, 2])]);
     let e = compute_unit_normals(&mut mp, None, NormalsMode::Once).unwrap_err();
-    assert!(matches!(e.kind(), ErrorKind::Geometry { entity: EntityKind::Node, .. }));
+    assert!(matches!(
+        e.kind(),
+        ErrorKind::Geometry {
+            entity: EntityKind::Node,
+            ..
+        }
+    ));
 }
 
 #[test]
 fn only_the_given_part_is_computed() {
-    let pts = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [5., 0., 0.], [6., 0., 0.], [5., 0., 1.]];
+    let pts = [
+        [0., 0., 0.],
+        [1., 0., 0.],
+        [0., 1., 0.],
+        [5., 0., 0.],
+        [6., 0., 0.],
+        [5., 0., 1.],
+    ];
     let t = GeometryKind::Triangle3D3;
     let mut mp = model(&pts, &[(t, &[1, 2, 3]), (t, &[4, 5, 6])]);
     let part = mp.create_part("first").unwrap();

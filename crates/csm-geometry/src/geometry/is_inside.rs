@@ -1,0 +1,57 @@
+//! Inside test: local coordinates plus the reference-element test with tolerance (Kratos
+//! `IsInside`, reference §17.1).
+
+use super::Geometry;
+use crate::math::{Point, Real};
+use crate::{Error, ErrorKind, GeometryKind};
+
+impl Geometry<'_> {
+    /// Whether the local point `local` lies in the reference element enlarged by `tolerance`:
+    /// lines `|ξ| ≤ 1 + tol`; triangles `ξ, η ≥ −tol`, `ξ + η ≤ 1 + tol`; quadrilaterals and
+    /// hexahedra `|ξ_k| ≤ 1 + tol`; tetrahedra `ξ, η, ζ ≥ −tol`, `ξ + η + ζ ≤ 1 + tol`; prisms the
+    /// triangle test on (ξ, η) and `−tol ≤ ζ ≤ 1 + tol`. Unused directions are ignored.
+    pub fn is_inside_local(&self, local: &Point, tolerance: Real) -> bool {
+        use GeometryKind as K;
+        let (x, y, z) = (local.x, local.y, local.z);
+        let lo = -tolerance;
+        let hi = 1.0 + tolerance;
+        match self.kind() {
+            K::Line2D2 | K::Line2D3 => x.abs() <= hi,
+            K::Triangle3D3 | K::Triangle3D6 | K::Triangle2D3 | K::Triangle2D6 => {
+                x >= lo && y >= lo && x + y <= hi
+            }
+            K::Quadrilateral3D4
+            | K::Quadrilateral3D8
+            | K::Quadrilateral3D9
+            | K::Quadrilateral2D4
+            | K::Quadrilateral2D8
+            | K::Quadrilateral2D9 => x.abs() <= hi && y.abs() <= hi,
+            K::Hexahedra3D8 | K::Hexahedra3D20 | K::Hexahedra3D27 => {
+                x.abs() <= hi && y.abs() <= hi && z.abs() <= hi
+            }
+            K::Tetrahedra3D4 | K::Tetrahedra3D10 => {
+                x >= lo && y >= lo && z >= lo && x + y + z <= hi
+            }
+            K::Prism3D6 => x >= lo && y >= lo && x + y <= hi && z >= lo && z <= hi,
+        }
+    }
+
+    /// Kratos `IsInside(p, local, tol)`: computes the local coordinates of `p`
+    /// ([`point_local_coordinates`](Self::point_local_coordinates)) and returns them if they pass
+    /// the reference-element test ([`is_inside_local`](Self::is_inside_local)). For faces the
+    /// point is effectively projected onto the face (no out-of-plane check).
+    ///
+    /// A point whose local coordinates do not converge is reported as outside (`Ok(None)`).
+    /// Errors: degenerate geometry or non-finite input or tolerance.
+    pub fn is_inside(&self, p: &Point, tolerance: Real) -> Result<Option<Point>, Error> {
+        if !tolerance.is_finite() {
+            return Err(Error::new(ErrorKind::NonFinite));
+        }
+        let local = match self.point_local_coordinates(p) {
+            Ok(local) => local,
+            Err(e) if *e.kind() == ErrorKind::NotConverged => return Ok(None),
+            Err(e) => return Err(e),
+        };
+        Ok(self.is_inside_local(&local, tolerance).then_some(local))
+    }
+}

@@ -1,0 +1,18 @@
+//! [`Geometry`]: a validated view of one finite-element geometry's node coordinates, with its
+//! shape functions, centre, normals, local coordinates, inside test and measures (Kratos'
+//! `Geometry` API as the contact search uses it, reference §17).
+
+#[allow(clippy::module_inception)]
+mod geometry;
+mod is_inside;
+mod local_coordinates;
+mod measure;
+mod quadrature;
+mod unit_normal;
+
+#[cfg(test)]
+mod tests;
+
+pub use geometry::Geometry;
+pub use local_coordinates::{LOCAL_COORDINATES_MAX_ITERATIONS, LOCAL_COORDINATES_TOLERANCE};
+pub use measure::TETRAHEDRON_LENGTH_FACTOR;

@@ -1,0 +1,122 @@
+//! Unit tests of the `obb` module.
+use crate::math::{Point, Vector};
+use crate::{ErrorKind, Geometry, GeometryKind, Obb, Obb2};
+
+#[track_caller]
+fn close_v(a: &Vector, b: [f64; 3], tol: f64) {
+    for k in 0..3 {
+        assert!((a[k] - b[k]).abs() <= tol, "{a:?} vs {b:?}");
+    }
+}
+
+#[track_caller]
+fn close(a: f64, b: f64, tol: f64) {
+    assert!((a - b).abs() <= tol, "{a} vs {b}");
+}
+
+/// Slave 4 of reference §20.1: a 0.5 × 1 quadrilateral in the x–z plane.
+fn slave4() -> [Point; 4] {
+    [
+        Point::new(1.5, 0.0, 0.0),
+        Point::new(2.0, 0.0, 0.0),
+        Point::new(2.0, 0.0, 1.0),
+        Point::new(1.5, 0.0, 1.0),
+    ]
+}
+
+// See: reference §7.2 / §20.4 (Kratos test_oriented_bounding_box.cpp, "3D complex" slave box).
+#[test]
+fn branch_a_reproduces_kratos_numbers() {
+    let pts = slave4();
+    let g = Geometry::new(GeometryKind::Quadrilateral3D4, &pts).unwrap();
+    let obb = Obb::from_geometry(&g, 0.1, true).unwrap();
+    assert_eq!(obb.center, Point::new(1.75, 0.0, 0.5));
+    close_v(&obb.axes[0], [0.447214, 0.0, 0.894427], 1e-6);
+    close_v(&obb.axes[1], [0.894427, 0.0, -0.447214], 1e-6);
+    close_v(&obb.axes[2], [0.0, 1.0, 0.0], 1e-15);
+    close(obb.half_lengths[0], 0.659017, 1e-6);
+    close(obb.half_lengths[1], 0.547214, 1e-6);
+    close(obb.half_lengths[2], 0.1, 1e-15);
+    // Right-handed frame in branch A.
+    close_v(&obb.axes[0].cross(&obb.axes[1]), [0.0, 1.0, 0.0], 1e-15);
+}
+
+#[test]
+fn branch_b_uses_the_normal() {
+    let pts = slave4();
+    let g = Geometry::new(GeometryKind::Quadrilateral3D4, &pts).unwrap();
+    let obb = Obb::from_geometry(&g, 0.1, false).unwrap();
+    assert_eq!(obb.center, Point::new(1.75, 0.0, 0.5));
+    close_v(&obb.axes[0], [0.0, -1.0, 0.0], 1e-15);
+    close_v(&obb.axes[1], [0.447214, 0.0, 0.894427], 1e-6);
+    close_v(&obb.axes[2], [0.894427, 0.0, -0.447214], 1e-6);
+    close(obb.half_lengths[0], 0.1, 1e-15);
+    close(obb.half_lengths[1], 0.659017, 1e-6);
+    close(obb.half_lengths[2], 0.547214, 1e-6);
+    // A solid always takes branch A.
+    let tet = [
+        Point::new(0.0, 0.0, 0.0),
+        Point::new(1.0, 0.0, 0.0),
+        Point::new(0.0, 1.0, 0.0),
+        Point::new(0.0, 0.0, 1.0),
+    ];
+    let g = Geometry::new(GeometryKind::Tetrahedra3D4, &tet).unwrap();
+    let a = Obb::from_geometry(&g, 0.0, false).unwrap();
+    assert_eq!(a, Obb::build_from_aabb(&g, 0.0).unwrap());
+}
+
+// See: quirk Q1.
+#[test]
+fn obb2_uses_the_aabb_diagonal() {
+    let pts = [Point::new(0.0, 1.0, 0.0), Point::new(1.0, 0.0, 0.0)];
+    let g = Geometry::new(GeometryKind::Line2D2, &pts).unwrap();
+    let obb = Obb2::from_geometry(&g, 0.1).unwrap();
+    let s = 0.5f64.sqrt();
+    close_v(&obb.axes[0], [s, s, 0.0], 1e-15);
+    close_v(&obb.axes[1], [s, -s, 0.0], 1e-15);
+    assert_eq!(obb.center, Point::new(0.5, 0.5, 0.0));
+    close(obb.half_lengths[0], 0.5 * 2f64.sqrt() + 0.1, 1e-15);
+    assert_eq!(obb.half_lengths[1], 0.1);
+    // The segment's own end points are outside the box (only covered near the midpoint).
+    assert!(!obb.contains_point(&pts[0]));
+    assert!(obb.contains_point(&Point::new(0.5, 0.5, 0.0)));
+}
+
+// See: quirk Q12.
+#[test]
+fn zero_extent_is_the_kratos_zero_norm_error() {
+    let pts = [Point::new(1.0, 2.0, 3.0); 3];
+    let g = Geometry::new(GeometryKind::Triangle3D3, &pts).unwrap();
+    for e in [
+        Obb::from_geometry(&g, 0.1, true).unwrap_err(),
+        Obb::from_geometry(&g, 0.1, false).unwrap_err(),
+        Obb2::from_geometry(&g, 0.1).unwrap_err(),
+    ] {
+        assert!(matches!(e.kind(), ErrorKind::Degenerate(_)), "{e}");
+    }
+    let ok = slave4();
+    let g = Geometry::new(GeometryKind::Quadrilateral3D4, &ok).unwrap();
+    assert_eq!(
+        *Obb::from_geometry(&g, f64::NAN, true).unwrap_err().kind(),
+        ErrorKind::NonFinite
+    );
+}
+
+#[test]
+fn vertices_follow_the_hexahedron_order() {
+    let obb = Obb::new(
+        Point::new(1.0, 2.0, 3.0),
+        [Vector::x(), Vector::y(), Vector::z()],
+        [1.0, 2.0, 3.0],
+    );
+    let v = obb.vertices();
+    assert_eq!(v[0], Point::new(0.0, 0.0, 0.0));
+    assert_eq!(v[6], Point::new(2.0, 4.0, 6.0));
+    assert_eq!(v[3], Point::new(0.0, 4.0, 0.0));
+    for p in v {
+        assert!(obb.contains_point(&p));
+    }
+    assert!(!obb.contains_point(&Point::new(2.0 + 1e-9, 2.0, 3.0)));
+    let b = obb.aabb();
+    assert_eq!((b.min, b.max), (v[0], v[6]));
+}

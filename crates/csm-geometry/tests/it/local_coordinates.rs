@@ -1,0 +1,171 @@
+//! `global_coordinates` → `point_local_coordinates` round trips for every kind (distorted and
+//! curved geometries included), the inside test, and known normals.
+
+use crate::common::Rng;
+use csm_geometry::math::{Point, Vector};
+use csm_geometry::{Geometry, GeometryKind, reference_node_coordinates};
+
+/// A random interior local point of `kind`'s reference element.
+fn interior_local(kind: GeometryKind, rng: &mut Rng) -> Point {
+    use GeometryKind as K;
+    let mut p = [0.0; 3];
+    match kind {
+        K::Triangle3D3 | K::Triangle3D6 | K::Triangle2D3 | K::Triangle2D6 => {
+            let (a, b) = (rng.unit(), rng.unit());
+            let (a, b) = if a + b > 1.0 {
+                (1.0 - a, 1.0 - b)
+            } else {
+                (a, b)
+            };
+            p[0] = a * 0.98 + 0.005;
+            p[1] = b * 0.98 + 0.005;
+        }
+        K::Tetrahedra3D4 | K::Tetrahedra3D10 => loop {
+            let v = [rng.unit(), rng.unit(), rng.unit()];
+            if v[0] + v[1] + v[2] < 0.98 {
+                p = v;
+                break;
+            }
+        },
+        K::Prism3D6 => {
+            let (a, b) = (rng.unit(), rng.unit());
+            let (a, b) = if a + b > 1.0 {
+                (1.0 - a, 1.0 - b)
+            } else {
+                (a, b)
+            };
+            p = [a * 0.98, b * 0.98, rng.range(0.01, 0.99)];
+        }
+        _ => {
+            for c in p.iter_mut().take(kind.local_dim()) {
+                *c = rng.range(-0.99, 0.99);
+            }
+        }
+    }
+    Point::new(p[0], p[1], p[2])
+}
+
+/// Reference nodes embedded in space: surfaces and lines get a rotation and a lift, every node
+/// a jitter (distorted quads, curved quadratic faces), 2D kinds stay in z = 0.
+fn embedded(kind: GeometryKind, rng: &mut Rng) -> Vec<Point> {
+    let r = if kind.working_dim() == 2 {
+        parry3d_f64::na::UnitQuaternion::from_scaled_axis(Vector::z() * rng.range(-3.0, 3.0))
+    } else {
+        rng.rotation()
+    };
+    let t = rng.vector(-3.0, 3.0);
+    let scale = rng.range(0.5, 3.0);
+    reference_node_coordinates(kind)
+        .iter()
+        .map(|a| {
+            let mut v = Vector::new(a[0], a[1], a[2]) * scale;
+            let j = rng.vector(-0.1, 0.1) * scale;
+            v += if kind.working_dim() == 2 {
+                Vector::new(j.x, j.y, 0.0)
+            } else if kind.is_face() {
+                // Keep the face roughly flat but warped/distorted.
+                Vector::new(j.x, j.y, 0.5 * j.z)
+            } else {
+                j
+            };
+            Point::from(r * v + t)
+        })
+        .collect()
+}
+
+#[test]
+fn round_trip_every_kind() {
+    let mut rng = Rng::new(0x10CA1);
+    for kind in GeometryKind::ALL {
+        for _ in 0..20 {
+            let pts = embedded(kind, &mut rng);
+            let g = Geometry::new(kind, &pts).unwrap();
+            for _ in 0..10 {
+                let local = interior_local(kind, &mut rng);
+                let x = g.global_coordinates(&local);
+                let back = g.point_local_coordinates(&x).unwrap();
+                assert!(
+                    (back - local).norm() < 1e-7,
+                    "{kind:?}: {local:?} -> {back:?}"
+                );
+                assert!(g.is_inside(&x, 1e-9).unwrap().is_some(), "{kind:?} inside");
+            }
+        }
+    }
+}
+
+#[test]
+fn faces_project_off_surface_points() {
+    let mut rng = Rng::new(0xF1A7);
+    for kind in [GeometryKind::Triangle3D3, GeometryKind::Quadrilateral3D4] {
+        // Flat (undistorted) faces: the offset along the normal does not change ξ.
+        let r = rng.rotation();
+        let pts: Vec<Point> = reference_node_coordinates(kind)
+            .iter()
+            .map(|a| Point::from(r * Vector::new(a[0] * 2.0, a[1], 0.0)))
+            .collect();
+        let g = Geometry::new(kind, &pts).unwrap();
+        let local = interior_local(kind, &mut rng);
+        let n = g.unit_normal(&local).unwrap();
+        let x = g.global_coordinates(&local) + n * 0.7;
+        let back = g.point_local_coordinates(&x).unwrap();
+        assert!((back - local).norm() < 1e-9, "{kind:?}");
+    }
+}
+
+#[test]
+fn points_outside_are_outside() {
+    let pts = [
+        Point::new(0.0, 0.0, 0.0),
+        Point::new(2.0, 0.0, 0.0),
+        Point::new(2.5, 1.5, 0.0),
+        Point::new(-0.2, 1.0, 0.0),
+    ];
+    let g = Geometry::new(GeometryKind::Quadrilateral3D4, &pts).unwrap();
+    assert!(
+        g.is_inside(&Point::new(3.0, 0.5, 0.0), 1e-6)
+            .unwrap()
+            .is_none()
+    );
+    assert!(
+        g.is_inside(&Point::new(1.0, 0.5, 0.0), 0.0)
+            .unwrap()
+            .is_some()
+    );
+    // Distorted quad centre is not at (0, 0) but its corners are at (±1, ±1).
+    let l = g.point_local_coordinates(&pts[2]).unwrap();
+    assert!((l - Point::new(1.0, 1.0, 0.0)).norm() < 1e-9);
+}
+
+#[test]
+fn known_normals() {
+    // Counter-clockwise seen from +z → +z.
+    let tri = [
+        Point::new(0.0, 0.0, 1.0),
+        Point::new(1.0, 0.0, 1.0),
+        Point::new(0.0, 1.0, 1.0),
+    ];
+    let g = Geometry::new(GeometryKind::Triangle3D3, &tri).unwrap();
+    assert_eq!(
+        g.unit_normal(&Point::new(0.2, 0.2, 0.0)).unwrap(),
+        Vector::z()
+    );
+    let quad = [
+        Point::new(0.0, 0.0, 0.0),
+        Point::new(0.0, 1.0, 0.0),
+        Point::new(0.0, 1.0, 1.0),
+        Point::new(0.0, 0.0, 1.0),
+    ];
+    let g = Geometry::new(GeometryKind::Quadrilateral3D4, &quad).unwrap();
+    assert_eq!(g.unit_normal(&Point::origin()).unwrap(), Vector::x());
+    // 2D line from (0,0) to (0,1): normal (t_y, -t_x) = +x.
+    let line = [
+        Point::new(0.0, 0.0, 0.0),
+        Point::new(0.0, 1.0, 0.0),
+        Point::new(0.0, 0.5, 0.0),
+    ];
+    let g = Geometry::new(GeometryKind::Line2D3, &line).unwrap();
+    let n = g.unit_normal(&Point::new(0.3, 0.0, 0.0)).unwrap();
+    assert!((n - Vector::x()).norm() < 1e-15);
+    assert!((g.length().unwrap() - 1.0).abs() < 1e-14);
+}
