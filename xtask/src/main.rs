@@ -3,7 +3,7 @@
 //! - `cargo xtask ci`: exactly what CI runs: `cargo fmt --check`, `cargo clippy -D warnings`
 //!   over every target, and every test (insta snapshots fail when missing or changed).
 //! - `cargo xtask fixtures`: regenerates the Kratos reference fixtures under `tests/fixtures/`
-//!   by driving Kratos 10.4.4 (PyPI) with one thread through `tools/kratos_fixtures.py`. The
+//!   by driving Kratos 10.4.4 (PyPI) with one thread through `tools/kratos_fixtures*.py`. The
 //!   virtual environment is made in `target/kratos-venv` on first use (or set `KRATOS_PYTHON`
 //!   to a Python that has Kratos). CI never runs this: the fixtures are committed data.
 //! - `cargo xtask snapshots`: the snapshot tests alone, as CI runs them; review changes
@@ -117,8 +117,18 @@ fn kratos_python() -> Result<String> {
     Ok(python.to_string_lossy().into_owned())
 }
 
+/// Runs every `tools/kratos_fixtures*.py`, in name order.
 fn fixtures() -> Result<()> {
     let python = kratos_python()?;
     let env = [("OMP_NUM_THREADS", "1"), ("OMP_WAIT_POLICY", "passive")];
-    run(&python, &["tools/kratos_fixtures.py"], &env)
+    let mut scripts: Vec<String> = std::fs::read_dir(workspace_root().join("tools"))?
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with("kratos_fixtures") && n.ends_with(".py"))
+        .collect();
+    scripts.sort();
+    for script in scripts {
+        run(&python, &[&format!("tools/{script}")], &env)?;
+    }
+    Ok(())
 }
