@@ -23,7 +23,4 @@ pub use setup::{
     CheckGap, Compatibility, ContactType, ObbIntersectionType, OctreeSearchParameters, PairSetup,
     SearchParameters, SearchSetup, SearchTreeType, parse_setup,
 };
-pub use stages::{
-    ContactParts, SearchInstance, assign_contact_flags, dispatch, master_slave_from_nodes,
-    transfer_to_contact,
-};
+pub use stages::*;

@@ -1,10 +1,14 @@
 //! The pipeline stages, as functions over explicit data (STYLE.md 8). Each returns data a test
-//! can print.
+//! can print. Every stage module's public items are re-exported here (and from the crate root).
 
 mod contact_parts;
 mod dispatch;
+mod interface_preprocess;
 mod master_slave;
+mod normal_check;
 
-pub use contact_parts::{ContactParts, assign_contact_flags, transfer_to_contact};
-pub use dispatch::{SearchInstance, dispatch};
-pub use master_slave::master_slave_from_nodes;
+pub use contact_parts::*;
+pub use dispatch::*;
+pub use interface_preprocess::*;
+pub use master_slave::*;
+pub use normal_check::*;
