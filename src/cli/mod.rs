@@ -2,5 +2,7 @@
 //! can call them without a process.
 
 mod info;
+mod search;
 
 pub use info::{MeshInfo, PartInfo, mesh_info};
+pub use search::{Timings, default_setup, load_setup, run_search};

@@ -40,6 +40,15 @@ pub enum ErrorKind {
     Strict(String),
     /// A valid setup that asks for something csm does not do yet; the message says what.
     NotImplemented(String),
+    /// A geometric computation on a condition failed (degenerate face, …).
+    Geometry {
+        /// External id of the condition.
+        condition: u32,
+        /// What failed.
+        message: String,
+    },
+    /// The model does not fit the setup (missing parts, no slave or master conditions, …).
+    Model(String),
 }
 
 impl Error {
@@ -110,6 +119,10 @@ impl fmt::Display for Error {
             ErrorKind::RejectedByKratos(msg) => write!(f, "{msg}"),
             ErrorKind::Strict(msg) => write!(f, "{msg} (an error because \"strict\": true)"),
             ErrorKind::NotImplemented(msg) => write!(f, "not implemented yet: {msg}"),
+            ErrorKind::Geometry { condition, message } => {
+                write!(f, "condition {condition}: {message}")
+            }
+            ErrorKind::Model(msg) => write!(f, "{msg}"),
         }
     }
 }

@@ -24,3 +24,5 @@ pub use setup::{
     SearchParameters, SearchSetup, SearchTreeType, parse_setup,
 };
 pub use stages::*;
+mod pipeline;
+pub use pipeline::*;

@@ -1,0 +1,20 @@
+//! The search driver: Kratos' life cycle (reference §1.3–§1.4, §4, §5) composed from the
+//! stages — `ExecuteInitialize` ([`ContactSearch::initialize`]), `ExecuteInitializeSolutionStep`
+//! ([`ContactSearch::step`]) and `ExecuteFinalizeSolutionStep`
+//! ([`ContactSearch::finalize_step`]).
+//!
+//! The slave loop runs in parallel (rayon): every per-slave computation that does not depend
+//! on the order (tree query, bounding volumes, geometric tests) is done in parallel, and the
+//! order-dependent part (INDEX_MAP updates, ACTIVE flags, pair creation) is applied serially in
+//! slave order afterwards — so the result is identical for any thread count and equal to
+//! Kratos' serial loop.
+
+mod candidates;
+mod filters;
+mod pairing;
+mod result;
+mod search;
+mod step_jump;
+
+pub use result::{NodeResult, SearchResult};
+pub use search::{ContactSearch, PairedCondition};

@@ -1,0 +1,245 @@
+//! Stages 6–7 for one slave condition: the kd-tree query (reference §5.4) and the OBB narrow
+//! phase (§5.3, §7), plus the order-independent parts of the stage-8 tests. Pure functions of
+//! the step's data, so the slave loop can run them in parallel.
+
+use csm_geometry::math::{EPS, Point, Real, Vector};
+use csm_geometry::{Geometry, Obb, Obb2, ObbIntersection, SatMode, fast_project_direction};
+use csm_model::{ConditionIdx, ModelPart, NodeIdx};
+use csm_trees::KdTree;
+
+use super::filters::passes_orientation;
+use super::step_jump::half_jump_center;
+use crate::error::{Error, ErrorKind};
+use crate::setup::{CheckGap, Compatibility, SearchParameters, SearchTreeType};
+
+/// An oriented bounding box in 2D or 3D.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Bv {
+    D2(Obb2),
+    D3(Obb),
+}
+
+impl Bv {
+    pub(crate) fn build(
+        geometry: &Geometry<'_>,
+        dim: usize,
+        enlargement: Real,
+        build_from_bounding_box: bool,
+    ) -> Result<Bv, csm_geometry::Error> {
+        if dim == 2 {
+            Obb2::from_geometry(geometry, enlargement).map(Bv::D2)
+        } else {
+            Obb::from_geometry(geometry, enlargement, build_from_bounding_box).map(Bv::D3)
+        }
+    }
+
+    fn intersects(&self, other: &Bv, mode: SatMode) -> bool {
+        match (self, other) {
+            (Bv::D2(a), Bv::D2(b)) => a.intersects(b, ObbIntersection::Sat, mode),
+            (Bv::D3(a), Bv::D3(b)) => a.intersects(b, ObbIntersection::Sat, mode),
+            // Both boxes of one search have the same dimension.
+            _ => true,
+        }
+    }
+}
+
+/// The step's read-only data every slave query uses.
+pub(crate) struct QueryContext<'a> {
+    pub model: &'a ModelPart,
+    pub params: &'a SearchParameters,
+    pub tree: &'a KdTree<u32>,
+    /// `bounding_box_factor × hmax`.
+    pub bbf: Real,
+    pub dim: usize,
+    /// Nodes of a slave condition the search uses (6-node triangles searched as 3-node).
+    pub slave_nodes: usize,
+    pub compatibility: Compatibility,
+    /// DELTA_COORDINATES when the search is dynamic.
+    pub delta: Option<&'a [Vector]>,
+    /// Historical nodal NORMAL.
+    pub nodal_normals: &'a [Vector],
+    pub nodal_h: &'a [Real],
+    pub active_check_factor: Real,
+    /// Master bounding boxes by condition index (`None`: not a point-list condition or not
+    /// needed).
+    pub master_bvs: &'a [Option<Result<Bv, csm_geometry::Error>>],
+}
+
+/// One candidate master that survived the order-independent tests.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Candidate {
+    pub master: ConditionIdx,
+    /// DirectCheck: bit `i` set when slave node `i` passes one of the two projection tests.
+    pub node_pass: u32,
+}
+
+fn geometry_error(model: &ModelPart, c: ConditionIdx, e: &csm_geometry::Error) -> Error {
+    ErrorKind::Geometry { condition: model.conditions().ids()[c.index()], message: e.to_string() }
+        .into()
+}
+
+fn with_obb(t: SearchTreeType) -> bool {
+    matches!(t, SearchTreeType::KdtreeInRadiusWithObb | SearchTreeType::KdtreeInBoxWithObb)
+}
+
+/// The candidates of slave `s`, in kd-tree result order (Kratos' traversal order).
+pub(crate) fn slave_candidates(
+    cx: &QueryContext<'_>,
+    s: ConditionIdx,
+    out: &mut Vec<Candidate>,
+) -> Result<(), Error> {
+    out.clear();
+    let model = cx.model;
+    let conditions = model.conditions();
+    let nodes = conditions.nodes(s.index());
+    let points: Vec<Point> = nodes.iter().map(|n| model.nodes().coordinates()[n.index()]).collect();
+    let kind = conditions.kind(s.index());
+    let geometry = Geometry::new(kind, &points).map_err(|e| geometry_error(model, s, &e))?;
+    let p = cx.params;
+    // Q12: the slave box is always built, even without OBB filtering, and fails on a
+    // zero-extent bounding box.
+    let slave_bv = Bv::build(&geometry, cx.dim, cx.bbf, p.octree.build_from_bounding_box)
+        .map_err(|e| geometry_error(model, s, &e))?;
+    let mut found: Vec<u32> = Vec::new();
+    let tree_error = |e: csm_trees::Error| Error::from(ErrorKind::Geometry {
+        condition: conditions.ids()[s.index()],
+        message: format!("kd-tree query: {e}"),
+    });
+    match p.type_search {
+        SearchTreeType::KdtreeInRadius
+        | SearchTreeType::KdtreeInRadiusWithObb
+        | SearchTreeType::Kdop
+        | SearchTreeType::OctreeWithObb => {
+            let center = geometry.center();
+            let radius = p.search_factor * geometry.bounding_sphere().radius;
+            let query = match cx.delta {
+                Some(delta) => {
+                    let local = geometry
+                        .point_local_coordinates(&center)
+                        .map_err(|e| geometry_error(model, s, &e))?;
+                    let shape = geometry.shape_functions(&local);
+                    half_jump_center(&center, &shape, nodes, delta, cx.dim)
+                }
+                None => center,
+            };
+            cx.tree.in_radius(&query, radius, p.allocation_size, &mut found).map_err(tree_error)?;
+        }
+        SearchTreeType::KdtreeInBox | SearchTreeType::KdtreeInBoxWithObb => {
+            let length = geometry.length().map_err(|e| geometry_error(model, s, &e))?;
+            let l = p.search_factor * length;
+            let aabb = geometry.aabb();
+            let shifted = |corner: &Point| -> Result<Point, Error> {
+                // Q6: the corner is moved along the interpolated nodal normal at its
+                // (extrapolated) local coordinates.
+                let local = geometry
+                    .point_local_coordinates(corner)
+                    .map_err(|e| geometry_error(model, s, &e))?;
+                let shape = geometry.shape_functions(&local);
+                let mut n = Vector::zeros();
+                for (node, w) in nodes.iter().zip(shape.iter()) {
+                    n += cx.nodal_normals[node.index()] * *w;
+                }
+                let norm = n.norm();
+                if norm <= EPS {
+                    return Err(ErrorKind::Geometry {
+                        condition: conditions.ids()[s.index()],
+                        message: "the interpolated normal at a corner of the search box is zero"
+                            .to_owned(),
+                    }
+                    .into());
+                }
+                Ok(corner + n * (l / norm))
+            };
+            let lo = shifted(&aabb.min)?;
+            let hi = shifted(&aabb.max)?;
+            cx.tree.in_box(&lo, &hi, p.allocation_size, &mut found).map_err(tree_error)?;
+        }
+    }
+    let mode = match cx.compatibility {
+        Compatibility::Kratos => SatMode::Kratos,
+        Compatibility::Robust => SatMode::Robust,
+    };
+    let slave_id = conditions.ids()[s.index()];
+    let slave_normal = model.condition_normals()[s.index()];
+    for &c in &found {
+        let master = ConditionIdx(c);
+        if with_obb(p.type_search) {
+            let bv = match &cx.master_bvs[master.index()] {
+                Some(Ok(bv)) => bv,
+                Some(Err(e)) => return Err(geometry_error(model, master, e)),
+                None => continue,
+            };
+            if !slave_bv.intersects(bv, mode) {
+                continue;
+            }
+        }
+        let mut node_pass = 0u32;
+        match p.check_gap {
+            CheckGap::MappingCheck => {
+                let master_normal = model.condition_normals()[master.index()];
+                let master_id = conditions.ids()[master.index()];
+                if !passes_orientation(
+                    slave_id,
+                    master_id,
+                    &slave_normal,
+                    &master_normal,
+                    p.normal_orientation_threshold,
+                ) {
+                    continue;
+                }
+            }
+            CheckGap::NoCheck => {}
+            CheckGap::DirectCheck => {
+                node_pass = direct_check_nodes(cx, s, master)?;
+            }
+        }
+        out.push(Candidate { master, node_pass });
+    }
+    Ok(())
+}
+
+/// DirectCheck's geometric test (reference §10.4) for every slave node: project the node onto
+/// the master's plane along `v` (the slave normal: csm never sets the non-historical nodal
+/// NORMAL, Q20) and along `−n_C`; a node passes if, for either direction, the distance is at
+/// most `NODAL_H · ACTIVE_CHECK_FACTOR` and the projection lies inside the master (tolerance
+/// ε). A direction parallel to the master plane gives distance 0 (Kratos' behaviour).
+fn direct_check_nodes(
+    cx: &QueryContext<'_>,
+    s: ConditionIdx,
+    master: ConditionIdx,
+) -> Result<u32, Error> {
+    let model = cx.model;
+    let conditions = model.conditions();
+    let master_nodes = conditions.nodes(master.index());
+    let master_points: Vec<Point> =
+        master_nodes.iter().map(|n| model.nodes().coordinates()[n.index()]).collect();
+    let master_geometry = Geometry::new(conditions.kind(master.index()), &master_points)
+        .map_err(|e| geometry_error(model, master, &e))?;
+    let n_s = model.condition_normals()[s.index()];
+    let n_c = model.condition_normals()[master.index()];
+    let origin = master_points[0];
+    let mut pass = 0u32;
+    for (i, node) in conditions.nodes(s.index()).iter().take(cx.slave_nodes).enumerate() {
+        let p = model.nodes().coordinates()[node.index()];
+        let limit = cx.nodal_h[node.index()] * cx.active_check_factor;
+        for v in [n_s, -n_c] {
+            let (projected, d) = fast_project_direction(&origin, &p, &n_c, &v);
+            if d <= limit {
+                let inside = master_geometry
+                    .is_inside(&projected, EPS)
+                    .map_err(|e| geometry_error(model, master, &e))?;
+                if inside.is_some() {
+                    pass |= 1 << i;
+                    break;
+                }
+            }
+        }
+    }
+    Ok(pass)
+}
+
+/// The nodes of slave `s` that the search considers (the first `n`).
+pub(crate) fn slave_search_nodes(model: &ModelPart, s: ConditionIdx, n: usize) -> &[NodeIdx] {
+    let nodes = model.conditions().nodes(s.index());
+    &nodes[..n.min(nodes.len())]
+}

@@ -1,0 +1,69 @@
+//! The result of a search step, in the form of RESULT.json (DESIGN.md §3).
+
+use std::collections::BTreeMap;
+
+use serde_json::{Map, Value, json};
+
+/// NORMAL_GAP and ACTIVE of one slave-side node after the search step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NodeResult {
+    /// The gap; `None` where NORMAL_GAP was never written (No/DirectCheck) or holds the
+    /// "not mapped" sentinel.
+    pub normal_gap: Option<f64>,
+    /// The ACTIVE flag (undefined counts as false).
+    pub active: bool,
+}
+
+/// The pairs, nodes and counters of one search step, ids external and sorted.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SearchResult {
+    /// For every pair key, every slave-side condition id with its INDEX_MAP keys (ascending).
+    pub pairs: BTreeMap<String, BTreeMap<u32, Vec<u32>>>,
+    /// Every slave-side node of the pairs.
+    pub nodes: BTreeMap<u32, NodeResult>,
+    /// Paired conditions created (Kratos' ComputingContact count).
+    pub paired_conditions: usize,
+    /// Warnings of the setup and of the run.
+    pub warnings: Vec<String>,
+}
+
+impl SearchResult {
+    /// RESULT.json (`csm-result/1`): keys in the contract's order, ids in numeric order.
+    /// `timings` become `timings_s`.
+    pub fn to_json(&self, timings: &[(&str, f64)]) -> Value {
+        let pairs: Map<String, Value> = self
+            .pairs
+            .iter()
+            .map(|(key, slaves)| {
+                let m: Map<String, Value> = slaves
+                    .iter()
+                    .map(|(s, masters)| (s.to_string(), json!(masters)))
+                    .collect();
+                (key.clone(), Value::Object(m))
+            })
+            .collect();
+        let nodes: Map<String, Value> = self
+            .nodes
+            .iter()
+            .map(|(id, n)| {
+                let gap = n.normal_gap.filter(|g| g.is_finite());
+                (id.to_string(), json!({"normal_gap": gap, "active": n.active}))
+            })
+            .collect();
+        let timings: Map<String, Value> =
+            timings.iter().map(|(k, v)| ((*k).to_owned(), json!(v))).collect();
+        let mut out = Map::new();
+        out.insert("format".into(), json!("csm-result/1"));
+        out.insert("pairs".into(), Value::Object(pairs));
+        out.insert("nodes".into(), Value::Object(nodes));
+        out.insert("paired_conditions".into(), json!(self.paired_conditions));
+        out.insert("warnings".into(), json!(self.warnings));
+        out.insert("timings_s".into(), Value::Object(timings));
+        Value::Object(out)
+    }
+
+    /// Total number of (slave, master) entries over every pair key.
+    pub fn n_pairs(&self) -> usize {
+        self.pairs.values().flat_map(|m| m.values()).map(Vec::len).sum()
+    }
+}

@@ -1,0 +1,528 @@
+//! The driver: `ExecuteInitialize`, `ExecuteInitializeSolutionStep` and
+//! `ExecuteFinalizeSolutionStep` of Kratos' ALMContactProcess and its search processes.
+
+use std::collections::BTreeSet;
+
+use csm_geometry::math::{EPS, Real, Vector};
+use csm_geometry::Geometry;
+use csm_model::{
+    ConditionId, ConditionIdx, Flag, ModelPart, NodalHMode, NodeIdx, NormalsMode, PartIdx,
+    ScalarVar, VectorVar, assign_nodal_h, compute_unit_normals,
+};
+use csm_trees::KdTree;
+use rayon::prelude::*;
+
+use super::candidates::{Bv, Candidate, QueryContext, slave_candidates};
+use super::pairing::{PairingContext, apply_candidates};
+use super::result::{NodeResult, SearchResult};
+use super::step_jump::compute_step_jump;
+pub use super::pairing::PairedCondition;
+use crate::error::{Error, ErrorKind};
+use crate::setup::{CheckGap, Compatibility, ContactType, SearchParameters, SearchSetup, SearchTreeType};
+use crate::stages::{ContactParts, SearchInstance, assign_contact_flags, dispatch, transfer_to_contact};
+
+/// The search of one pair key (one Kratos search process).
+#[derive(Debug)]
+struct PairSearch {
+    key: u32,
+    params: SearchParameters,
+    instance: SearchInstance,
+    /// `Contact.ContactSub<key>`.
+    sub: PartIdx,
+    /// The paired conditions (Kratos' `ComputingContactSub<key>`).
+    paired: Vec<PairedCondition>,
+}
+
+/// A contact search over a model: created by [`ContactSearch::initialize`], run step by step.
+#[derive(Debug)]
+pub struct ContactSearch {
+    setup: SearchSetup,
+    parts: ContactParts,
+    pairs: Vec<PairSearch>,
+    database_step: u32,
+    warnings: Vec<String>,
+}
+
+fn model_error(e: csm_model::Error) -> Error {
+    ErrorKind::Model(e.to_string()).into()
+}
+
+/// Conditions of `part` in Kratos' container order (ascending external id).
+fn conditions_by_id(model: &ModelPart, part: PartIdx) -> Vec<ConditionIdx> {
+    let mut v = model.part(part).conditions().to_vec();
+    let ids = model.conditions().ids();
+    v.sort_by_key(|c| ids[c.index()]);
+    v
+}
+
+impl ContactSearch {
+    /// Kratos' `ExecuteInitialize` (reference §1.3 and §4) on a model without a `Contact`
+    /// part: contact parts and flags (stage 0), NODAL_H, the emulated Python state (process
+    /// info, nodal variables), `adapt_search`, the instance of every pair (stage 4), the
+    /// search processes' construction and the point lists.
+    pub fn initialize(model: &mut ModelPart, setup: &SearchSetup) -> Result<ContactSearch, Error> {
+        let mut setup = setup.clone();
+        let mut warnings = setup.warnings.clone();
+        if model.find_part("Contact").is_some() {
+            return Err(ErrorKind::NotImplemented(
+                "the mesh already has a `Contact` part (Kratos' restart path, stage 3)".to_owned(),
+            )
+            .into());
+        }
+        let parts = assign_contact_flags(model, &setup)?;
+        for pair in setup.pairs.values() {
+            for path in &pair.parts {
+                let part = model.get_part(path).map_err(model_error)?;
+                if model.part(part).conditions().is_empty() {
+                    return Err(ErrorKind::NotImplemented(format!(
+                        "part `{path}` has nodes but no conditions: interface conditions from \
+                         element faces (stage 1) are not generated yet"
+                    ))
+                    .into());
+                }
+            }
+        }
+        transfer_to_contact(model, &setup, &parts)?;
+        emulate_python_state(model, &setup);
+        match setup.nodal_h {
+            Some(h) => {
+                if let Some(col) = model.nodal_data_mut().scalar_mut(ScalarVar::NodalH, 0) {
+                    col.fill(h);
+                }
+            }
+            None => assign_nodal_h(model, None, NodalHMode::Kratos),
+        }
+        if setup.adapt_search {
+            // ContactUtilities::CalculateRelativeSizeMesh over every node (Q33: a node in no
+            // element has DBL_MAX and makes the factor infinite).
+            let h = model.nodal_data().scalar(ScalarVar::NodalH, 0).unwrap_or(&[]);
+            let max = h.iter().copied().fold(0.0, Real::max);
+            let min = h.iter().copied().fold(Real::MAX, Real::min);
+            let factor = max / min;
+            if !factor.is_finite() {
+                return Err(ErrorKind::Model(format!(
+                    "adapt_search: h_max/h_min = {max}/{min} is not finite (nodes outside every \
+                     element keep NODAL_H = DBL_MAX, Q33)"
+                ))
+                .into());
+            }
+            for pair in setup.pairs.values_mut() {
+                pair.search.search_factor *= factor;
+            }
+            setup.active_check_factor *= factor;
+            model.process_info_mut().set_number("ACTIVE_CHECK_FACTOR", setup.active_check_factor);
+        }
+        let domain_size = model.process_info().number("DOMAIN_SIZE").unwrap_or(0.0) as u32;
+        let mut pairs = Vec::new();
+        for (&key, pair) in &setup.pairs {
+            let params = pair.search.clone();
+            match params.type_search {
+                SearchTreeType::OctreeWithObb => {
+                    return Err(ErrorKind::NotImplemented(
+                        "type_search octree_with_obb".to_owned(),
+                    )
+                    .into());
+                }
+                SearchTreeType::Kdop => {
+                    return Err(ErrorKind::NotImplemented("type_search kdop_18".to_owned()).into());
+                }
+                _ => {}
+            }
+            let instance = dispatch(model, parts.contact, domain_size, params.predefined_master_slave)?;
+            let sub = parts.subs[&key];
+            // Base process construction (§3): NORMAL_GAP := 0 (MappingCheck), ACTIVE := false
+            // on every condition of ContactSub (this makes ACTIVE defined, §5.3).
+            if params.check_gap == CheckGap::MappingCheck {
+                let nodes = model.part(sub).nodes().to_vec();
+                model.nodal_data_mut().add_scalar(ScalarVar::NormalGap);
+                if let Some(col) = model.nodal_data_mut().scalar_mut(ScalarVar::NormalGap, 0) {
+                    for n in nodes {
+                        col[n.index()] = 0.0;
+                    }
+                }
+            }
+            for c in model.part(sub).conditions().to_vec() {
+                model.conditions_mut().flags_mut()[c.index()].set(Flag::ACTIVE, false);
+            }
+            // CreatePointListMortar (§4.2): must not be empty.
+            let check = !params.inverted_search || !params.predefined_master_slave;
+            let has_points = model
+                .part(sub)
+                .conditions()
+                .iter()
+                .any(|c| model.conditions().flags()[c.index()].is(Flag::MASTER) == check);
+            if !has_points {
+                return Err(ErrorKind::RejectedByKratos(format!(
+                    "pair {key}: no master conditions to search (\"mPointListDestination not \
+                     initialized\" in Kratos; with `assume_master_slave` empty the roles are not \
+                     predefined and Kratos sets no MASTER flag, Q47)"
+                ))
+                .into());
+            }
+            pairs.push(PairSearch { key, params, instance, sub, paired: Vec::new() });
+        }
+        shared_conditions_check(model, &pairs)?;
+        if setup.pairs.values().any(|p| p.search.check_gap == CheckGap::MappingCheck) {
+            warnings.push(
+                "check_gap MappingCheck: the mortar NormalGap mapping is not implemented yet, so \
+                 the MappingCheck pruning is not applied: pairs are the broad- and narrow-phase \
+                 candidates accepted by CheckCondition, NORMAL_GAP is not computed (null) and no \
+                 node is activated"
+                    .to_owned(),
+            );
+        }
+        Ok(ContactSearch { setup, parts, pairs, database_step: 0, warnings })
+    }
+
+    /// The setup in force (after `adapt_search`).
+    pub fn setup(&self) -> &SearchSetup {
+        &self.setup
+    }
+
+    /// The paired conditions of pair `key` after the last step.
+    pub fn paired_conditions(&self, key: u32) -> &[PairedCondition] {
+        self.pairs.iter().find(|p| p.key == key).map_or(&[], |p| &p.paired)
+    }
+
+    /// The search instance (Kratos template class) chosen for pair `key`.
+    pub fn instance(&self, key: u32) -> Option<SearchInstance> {
+        self.pairs.iter().find(|p| p.key == key).map(|p| p.instance)
+    }
+
+    /// Kratos' `ExecuteInitializeSolutionStep` (§1.4): searches when inside the interval and
+    /// `database_step_update` says so (always at STEP 1); otherwise sets ACTIVE false on every
+    /// `Contact` node and condition (Q36). Returns the result of the step.
+    pub fn step(&mut self, model: &mut ModelPart) -> Result<SearchResult, Error> {
+        let time = model.process_info().number("TIME").unwrap_or(1.0);
+        let step = model.process_info().number("STEP").unwrap_or(1.0);
+        let (start, end) = self.setup.interval;
+        let in_interval = time >= start && time <= end;
+        let mut searched = false;
+        if in_interval {
+            self.database_step += 1;
+            if self.database_step >= self.setup.database_step_update || step == 1.0 {
+                searched = true;
+            }
+        }
+        let contact = self.parts.contact;
+        if searched {
+            self.reset_marker(model);
+            for i in 0..self.pairs.len() {
+                let compatibility = self.setup.compatibility;
+                let pair = &mut self.pairs[i];
+                clear_mortar_conditions(model, pair);
+                update_mortar_conditions(model, pair, compatibility)?;
+            }
+            self.reset_marker(model);
+        } else {
+            for n in model.part(contact).nodes().to_vec() {
+                model.nodes_mut().flags_mut()[n.index()].set(Flag::ACTIVE, false);
+            }
+            for c in model.part(contact).conditions().to_vec() {
+                model.conditions_mut().flags_mut()[c.index()].set(Flag::ACTIVE, false);
+            }
+        }
+        Ok(self.result(model))
+    }
+
+    /// Kratos' `ExecuteFinalizeSolutionStep`: clears the pairs of the pairs searched this
+    /// step (ClearMortarConditions) and resets the database counter.
+    pub fn finalize_step(&mut self, model: &mut ModelPart) {
+        let step = model.process_info().number("STEP").unwrap_or(1.0);
+        if self.database_step >= self.setup.database_step_update || step == 1.0 {
+            for pair in &mut self.pairs {
+                clear_mortar_conditions(model, pair);
+            }
+            self.database_step = 0;
+        }
+    }
+
+    fn reset_marker(&self, model: &mut ModelPart) {
+        for n in model.part(self.parts.contact).nodes().to_vec() {
+            model.nodes_mut().flags_mut()[n.index()].set(Flag::MARKER, false);
+        }
+    }
+
+    /// The RESULT.json content of the current state.
+    pub fn result(&self, model: &ModelPart) -> SearchResult {
+        let mut result = SearchResult { warnings: self.warnings.clone(), ..Default::default() };
+        let ids = model.conditions().ids();
+        let node_ids = model.nodes().ids();
+        for pair in &self.pairs {
+            let inverted = pair.params.inverted_search;
+            let mut slaves = std::collections::BTreeMap::new();
+            let mut nodes: BTreeSet<NodeIdx> = BTreeSet::new();
+            for c in model.part(pair.sub).conditions() {
+                if model.conditions().flags()[c.index()].is(Flag::SLAVE) != !inverted {
+                    continue;
+                }
+                let masters: Vec<u32> = model.index_map(*c).masters().map(ConditionId::get).collect();
+                slaves.insert(ids[c.index()], masters);
+                nodes.extend(model.conditions().nodes(c.index()).iter().copied());
+            }
+            for n in nodes {
+                let flags = model.nodes().flags()[n.index()];
+                // NORMAL_GAP is never written by No/DirectCheck, and MappingCheck's mapping is
+                // not implemented yet: null either way.
+                let normal_gap = None;
+                result.nodes.insert(node_ids[n.index()], NodeResult {
+                    normal_gap,
+                    active: flags.is(Flag::ACTIVE),
+                });
+            }
+            result.pairs.insert(pair.key.to_string(), slaves);
+            result.paired_conditions += pair.paired.len();
+        }
+        result
+    }
+}
+
+/// The nodal variables and process info of the Python path (DESIGN.md §2), then the setup's
+/// `process_info` overrides.
+fn emulate_python_state(model: &mut ModelPart, setup: &SearchSetup) {
+    let data = model.nodal_data_mut();
+    for v in [VectorVar::Displacement, VectorVar::Velocity, VectorVar::Acceleration, VectorVar::Normal] {
+        data.add_vector(v);
+    }
+    data.add_scalar(ScalarVar::NodalH);
+    data.add_scalar(ScalarVar::WeightedGap);
+    match setup.contact_type {
+        ContactType::Frictionless => data.add_scalar(ScalarVar::LagrangeMultiplierContactPressure),
+        _ => data.add_vector(VectorVar::VectorLagrangeMultiplier),
+    }
+    let pi = model.process_info_mut();
+    if !pi.has("DOMAIN_SIZE") {
+        pi.set_number("DOMAIN_SIZE", 3.0);
+    }
+    pi.set_number("STEP", 1.0);
+    pi.set_number("TIME", 1.0);
+    pi.set_number("DELTA_TIME", 1.0);
+    pi.set_number("ZERO_TOLERANCE_FACTOR", setup.zero_tolerance_factor);
+    pi.set_number("ACTIVE_CHECK_FACTOR", setup.active_check_factor);
+    pi.set_number("DISTANCE_THRESHOLD", 1e24);
+    for (k, v) in &setup.process_info {
+        pi.set_number(k, *v);
+    }
+}
+
+/// Kratos clones conditions shared by several pairs (CheckContactModelParts, §4.1); csm does
+/// not yet.
+fn shared_conditions_check(model: &ModelPart, pairs: &[PairSearch]) -> Result<(), Error> {
+    let mut seen = BTreeSet::new();
+    for pair in pairs {
+        for c in model.part(pair.sub).conditions() {
+            if !seen.insert(*c) {
+                return Err(ErrorKind::NotImplemented(format!(
+                    "condition {} belongs to several contact pairs (Kratos clones it, §4.1)",
+                    model.conditions().ids()[c.index()]
+                ))
+                .into());
+            }
+        }
+    }
+    Ok(())
+}
+
+/// ClearMortarConditions (§4.3): ResetContactOperators — paired conditions that are not
+/// ACTIVE are erased and their masters removed from the slave's INDEX_MAP — then the Lagrange
+/// multiplier of ContactSub nodes that are not ACTIVE is zeroed.
+fn clear_mortar_conditions(model: &mut ModelPart, pair: &mut PairSearch) {
+    let mut kept = Vec::new();
+    for pc in pair.paired.drain(..) {
+        if pc.active {
+            kept.push(pc);
+        } else {
+            let master_id = ConditionId(model.conditions().ids()[pc.master.index()]);
+            model.index_map_mut(pc.slave).remove_id(master_id);
+        }
+    }
+    pair.paired = kept;
+    let nodes = model.part(pair.sub).nodes().to_vec();
+    let inactive: Vec<NodeIdx> =
+        nodes.into_iter().filter(|n| !model.nodes().flags()[n.index()].is(Flag::ACTIVE)).collect();
+    let data = model.nodal_data_mut();
+    if let Some(col) = data.scalar_mut(ScalarVar::LagrangeMultiplierContactPressure, 0) {
+        for n in &inactive {
+            col[n.index()] = 0.0;
+        }
+    }
+    if let Some(col) = data.vector_mut(VectorVar::VectorLagrangeMultiplier, 0) {
+        for n in &inactive {
+            col[n.index()] = Vector::zeros();
+        }
+    }
+}
+
+/// UpdateMortarConditions (§5) for the kd-tree path.
+fn update_mortar_conditions(
+    model: &mut ModelPart,
+    pair: &mut PairSearch,
+    compatibility: Compatibility,
+) -> Result<(), Error> {
+    let p = pair.params.clone();
+    let inverted = p.inverted_search;
+    let sub = pair.sub;
+    let dim = usize::from(pair.instance.dim);
+    // 1. Dynamic search: the half-jump increments; MappingCheck moves the nodes (§11).
+    let dynamic = p.dynamic_search && model.nodal_data().has_vector(VectorVar::Velocity);
+    let sub_nodes = model.part(sub).nodes().to_vec();
+    let delta = if dynamic {
+        let dt = model.process_info().number("DELTA_TIME").unwrap_or(1.0);
+        Some(compute_step_jump(model, &sub_nodes, dt))
+    } else {
+        None
+    };
+    let moved = dynamic && p.check_gap == CheckGap::MappingCheck;
+    if let (true, Some(d)) = (moved, &delta) {
+        shift_nodes(model, &sub_nodes, d, 1.0);
+    }
+    // 2. Unit normals of ContactSub.
+    let normals_mode = match compatibility {
+        Compatibility::Kratos => NormalsMode::Kratos,
+        Compatibility::Robust => NormalsMode::Once,
+    };
+    compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
+    // 3. The running id of created pairs: after the largest condition id of the root (the
+    // paired conditions of earlier steps included).
+    let max_paired = pair.paired.iter().map(|pc| pc.id.get()).max().unwrap_or(0);
+    let mut condition_id = model.conditions().max_id().max(max_paired);
+
+    // 6. SearchUsingKDTree (§5.3).
+    let check = !inverted || !p.predefined_master_slave;
+    let conditions = conditions_by_id(model, sub);
+    let points: Vec<(u32, csm_geometry::math::Point)> = conditions
+        .iter()
+        .filter(|c| model.conditions().flags()[c.index()].is(Flag::MASTER) == check)
+        .map(|c| {
+            let nodes = model.conditions().nodes(c.index());
+            let mut center = csm_geometry::math::Point::origin();
+            for n in nodes {
+                center.coords += model.nodes().coordinates()[n.index()].coords;
+            }
+            (c.get(), csm_geometry::math::Point::from(center.coords / nodes.len() as Real))
+        })
+        .collect();
+    let tree = KdTree::new(&points, p.bucket_size).map_err(|e| {
+        Error::from(ErrorKind::Model(format!("kd-tree of the master conditions: {e}")))
+    })?;
+    let h_col = model.nodal_data().scalar(ScalarVar::NodalH, 0).unwrap_or(&[]).to_vec();
+    let hmax = model.part(sub).nodes().iter().map(|n| h_col[n.index()]).fold(0.0, Real::max);
+    let hmax = if hmax < EPS { 1.0 } else { hmax };
+    let bbf = p.octree.bounding_box_factor * hmax;
+    let with_obb = matches!(
+        p.type_search,
+        SearchTreeType::KdtreeInRadiusWithObb | SearchTreeType::KdtreeInBoxWithObb
+    );
+    // Master boxes, once per step (Kratos rebuilds one per candidate); No/DirectCheck build
+    // them with build_from_bounding_box = true (Q4).
+    let master_bfb = p.check_gap != CheckGap::MappingCheck || p.octree.build_from_bounding_box;
+    let mut master_bvs: Vec<Option<Result<Bv, csm_geometry::Error>>> =
+        vec![None; model.conditions().len()];
+    if with_obb {
+        let built: Vec<(u32, Result<Bv, csm_geometry::Error>)> = points
+            .par_iter()
+            .map(|(c, _)| {
+                let idx = *c as usize;
+                let pts: Vec<_> = model
+                    .conditions()
+                    .nodes(idx)
+                    .iter()
+                    .map(|n| model.nodes().coordinates()[n.index()])
+                    .collect();
+                let bv = Geometry::new(model.conditions().kind(idx), &pts)
+                    .and_then(|g| Bv::build(&g, dim, bbf, master_bfb));
+                (*c, bv)
+            })
+            .collect();
+        for (c, bv) in built {
+            master_bvs[c as usize] = Some(bv);
+        }
+    }
+    let slaves: Vec<ConditionIdx> = conditions
+        .iter()
+        .copied()
+        .filter(|c| {
+            let f = model.conditions().flags()[c.index()];
+            f.is_defined(Flag::ACTIVE) && f.is(Flag::SLAVE) == !inverted
+        })
+        .collect();
+    let nodal_normals = model.nodal_data().vector(VectorVar::Normal, 0).unwrap_or(&[]).to_vec();
+    let acf = model.process_info().number("ACTIVE_CHECK_FACTOR").unwrap_or(0.0);
+    let candidates: Vec<Result<Vec<Candidate>, Error>> = {
+        let cx = QueryContext {
+            model,
+            params: &p,
+            tree: &tree,
+            bbf,
+            dim,
+            slave_nodes: usize::from(pair.instance.slave_nodes),
+            compatibility,
+            delta: delta.as_deref(),
+            nodal_normals: &nodal_normals,
+            nodal_h: &h_col,
+            active_check_factor: acf,
+            master_bvs: &master_bvs,
+        };
+        slaves
+            .par_iter()
+            .map_init(Vec::new, |scratch, s| {
+                slave_candidates(&cx, *s, scratch)?;
+                Ok(scratch.clone())
+            })
+            .collect()
+    };
+    let pcx = PairingContext {
+        params: &p,
+        inverted,
+        slave_nodes: usize::from(pair.instance.slave_nodes),
+    };
+    let mut created = Vec::new();
+    for (s, cands) in slaves.iter().zip(candidates) {
+        apply_candidates(model, &pcx, *s, &cands?, &mut created);
+    }
+    // Pair ids: after the largest id, in slave id order then master id order (DESIGN.md §2).
+    let ids = model.conditions().ids();
+    created.sort_by_key(|(s, m)| (ids[s.index()], ids[m.index()]));
+    for (s, m) in created {
+        condition_id += 1;
+        let id = ConditionId(condition_id);
+        let master_id = ConditionId(model.conditions().ids()[m.index()]);
+        model.index_map_mut(s).set_new_entity_id(master_id, id);
+        pair.paired.push(PairedCondition { id, slave: s, master: m, active: true });
+    }
+    // 8. SetOriginDestinationModelParts: both sides must have conditions.
+    let (mut n_slave, mut n_master) = (0, 0);
+    for c in model.part(sub).conditions() {
+        let f = model.conditions().flags()[c.index()];
+        n_slave += usize::from(f.is(Flag::SLAVE) == !inverted);
+        n_master += usize::from(f.is(Flag::MASTER) == !inverted);
+    }
+    if n_slave == 0 || n_master == 0 {
+        return Err(ErrorKind::RejectedByKratos(format!(
+            "pair {}: no origin/destination conditions ({n_slave} slave-side, {n_master} \
+             master-side)",
+            pair.key
+        ))
+        .into());
+    }
+    // 9. No/DirectCheck with a dynamic search: Kratos subtracts the increment although the
+    // nodes were never moved (Q9); robust mode does not.
+    if let (false, Some(d)) = (moved, &delta) {
+        if compatibility == Compatibility::Kratos && p.check_gap != CheckGap::MappingCheck {
+            shift_nodes(model, &sub_nodes, d, -1.0);
+        }
+    }
+    if let (true, Some(d)) = (moved, &delta) {
+        // MappingCheck restores the coordinates after the mapping (CheckPairing step c).
+        shift_nodes(model, &sub_nodes, d, -1.0);
+        compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
+    }
+    Ok(())
+}
+
+fn shift_nodes(model: &mut ModelPart, nodes: &[NodeIdx], delta: &[Vector], sign: Real) {
+    let coords = model.nodes_mut().coordinates_mut();
+    for n in nodes {
+        coords[n.index()] += delta[n.index()] * sign;
+    }
+}

@@ -1,0 +1,82 @@
+//! `csm search`: read a mesh and a setup, run one search step, report RESULT.json.
+
+use std::time::Instant;
+
+use csm_model::ModelPart;
+use csm_search::{ContactSearch, SearchResult, SearchSetup, parse_setup};
+
+/// Wall times of the phases of a run, in seconds (RESULT.json `timings_s`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Timings {
+    /// Parsing the mesh.
+    pub read: f64,
+    /// Everything before the search step (contact parts, NODAL_H, …).
+    pub initialize: f64,
+    /// The search step (Kratos' ExecuteInitializeSolutionStep).
+    pub search: f64,
+    /// From the start of reading to the end of the search.
+    pub total: f64,
+}
+
+impl Timings {
+    /// As `(key, seconds)` pairs in the contract's order.
+    pub fn entries(&self) -> [(&'static str, f64); 4] {
+        [
+            ("read", self.read),
+            ("initialize", self.initialize),
+            ("search", self.search),
+            ("total", self.total),
+        ]
+    }
+}
+
+/// The setup used without `--setup`: the parts named `slave` and `master` (any case), the
+/// default parameters.
+pub fn default_setup(model: &ModelPart) -> Result<SearchSetup, String> {
+    let find = |name: &str| {
+        let found: Vec<&str> =
+            model.part_paths().into_iter().filter(|p| p.eq_ignore_ascii_case(name)).collect();
+        match found.as_slice() {
+            [one] => Ok((*one).to_owned()),
+            [] => Err(format!(
+                "no part named `{name}` (any case); the parts are: {} — give a setup with \
+                 --setup",
+                model.part_paths().join(", ")
+            )),
+            _ => Err(format!("several parts are named `{name}` (any case): {}", found.join(", "))),
+        }
+    };
+    let (slave, master) = (find("slave")?, find("master")?);
+    let text = serde_json::json!({
+        "contact_model_part": {"0": [slave, master]},
+        "assume_master_slave": {"0": [slave]},
+    })
+    .to_string();
+    parse_setup(&text, "<default setup>").map_err(|e| e.to_string())
+}
+
+/// Parses setup text (`file` names it in errors).
+pub fn load_setup(text: &str, file: &str) -> Result<SearchSetup, String> {
+    parse_setup(text, file).map_err(|e| e.to_string())
+}
+
+/// Runs initialize + one search step on `model`; `read` is the time the mesh took to read.
+pub fn run_search(
+    model: &mut ModelPart,
+    setup: &SearchSetup,
+    read: f64,
+) -> Result<(SearchResult, Timings), String> {
+    let start = Instant::now();
+    let mut search = ContactSearch::initialize(model, setup).map_err(|e| e.to_string())?;
+    let initialize = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    let result = search.step(model).map_err(|e| e.to_string())?;
+    let search_time = start.elapsed().as_secs_f64();
+    let timings = Timings {
+        read,
+        initialize,
+        search: search_time,
+        total: read + initialize + search_time,
+    };
+    Ok((result, timings))
+}
