@@ -11,6 +11,7 @@
 
 mod candidates;
 mod filters;
+mod octree;
 mod pairing;
 mod result;
 mod search;

@@ -190,7 +190,8 @@ pub(crate) fn slave_candidates(
             }
             CheckGap::NoCheck => {}
             CheckGap::DirectCheck => {
-                node_pass = direct_check_nodes(cx, s, master)?;
+                let n_c = model.condition_normals()[master.index()];
+                node_pass = direct_check_nodes(cx, s, master, &n_c)?;
             }
         }
         out.push(Candidate { master, node_pass });
@@ -203,10 +204,13 @@ pub(crate) fn slave_candidates(
 /// NORMAL, Q20) and along `−n_C`; a node passes if, for either direction, the distance is at
 /// most `NODAL_H · ACTIVE_CHECK_FACTOR` and the projection lies inside the master (tolerance
 /// ε). A direction parallel to the master plane gives distance 0 (Kratos' behaviour).
-fn direct_check_nodes(
+/// `n_c` is the master normal the caller's path uses (kd-tree: the condition NORMAL; octree:
+/// the unit normal at local (0,0,0)).
+pub(crate) fn direct_check_nodes(
     cx: &QueryContext<'_>,
     s: ConditionIdx,
     master: ConditionIdx,
+    n_c: &Vector,
 ) -> Result<u32, Error> {
     let model = cx.model;
     let conditions = model.conditions();
@@ -216,7 +220,7 @@ fn direct_check_nodes(
     let master_geometry = Geometry::new(conditions.kind(master.index()), &master_points)
         .map_err(|e| geometry_error(model, master, &e))?;
     let n_s = model.condition_normals()[s.index()];
-    let n_c = model.condition_normals()[master.index()];
+    let n_c = *n_c;
     let origin = master_points[0];
     let mut pass = 0u32;
     for (i, node) in conditions.nodes(s.index()).iter().take(cx.slave_nodes).enumerate() {

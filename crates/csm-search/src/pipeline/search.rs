@@ -13,6 +13,7 @@ use csm_trees::KdTree;
 use rayon::prelude::*;
 
 use super::candidates::{Bv, Candidate, QueryContext, slave_candidates};
+use super::octree::{OctreeContext, search_octree};
 use super::pairing::{PairingContext, apply_candidates};
 use super::result::{NodeResult, SearchResult};
 use super::step_jump::compute_step_jump;
@@ -117,9 +118,10 @@ impl ContactSearch {
         for (&key, pair) in &setup.pairs {
             let params = pair.search.clone();
             match params.type_search {
-                SearchTreeType::OctreeWithObb => {
-                    return Err(ErrorKind::NotImplemented(
-                        "type_search octree_with_obb".to_owned(),
+                SearchTreeType::OctreeWithObb if params.inverted_search => {
+                    return Err(ErrorKind::RejectedByKratos(
+                        "the octree search does not support inverted_search (Kratos errors too)"
+                            .to_owned(),
                     )
                     .into());
                 }
@@ -385,9 +387,87 @@ fn update_mortar_conditions(
     // 3. The running id of created pairs: after the largest condition id of the root (the
     // paired conditions of earlier steps included).
     let max_paired = pair.paired.iter().map(|pc| pc.id.get()).max().unwrap_or(0);
-    let mut condition_id = model.conditions().max_id().max(max_paired);
+    let condition_id = model.conditions().max_id().max(max_paired);
 
-    // 6. SearchUsingKDTree (§5.3).
+    // 6. SearchUsingOcTree (§8) or SearchUsingKDTree (§5.3).
+    let mut created = Vec::new();
+    if p.type_search == SearchTreeType::OctreeWithObb {
+        let domain_size = model.process_info().number("DOMAIN_SIZE").unwrap_or(0.0) as u32;
+        let ocx = OctreeContext {
+            params: &p,
+            sub,
+            dim,
+            slave_nodes: usize::from(pair.instance.slave_nodes),
+            compatibility,
+            domain_size,
+        };
+        search_octree(model, &ocx, &mut created)?;
+    } else {
+        kdtree_search(model, pair, &p, compatibility, delta.as_deref(), &mut created)?;
+    }
+    finish_pairs(model, pair, created, condition_id);
+    // 8. SetOriginDestinationModelParts: both sides must have conditions.
+    let (mut n_slave, mut n_master) = (0, 0);
+    for c in model.part(sub).conditions() {
+        let f = model.conditions().flags()[c.index()];
+        n_slave += usize::from(f.is(Flag::SLAVE) == !inverted);
+        n_master += usize::from(f.is(Flag::MASTER) == !inverted);
+    }
+    if n_slave == 0 || n_master == 0 {
+        return Err(ErrorKind::RejectedByKratos(format!(
+            "pair {}: no origin/destination conditions ({n_slave} slave-side, {n_master} \
+             master-side)",
+            pair.key
+        ))
+        .into());
+    }
+    // 9. No/DirectCheck with a dynamic search: Kratos subtracts the increment although the
+    // nodes were never moved (Q9); robust mode does not.
+    if let (false, Some(d)) = (moved, &delta) {
+        if compatibility == Compatibility::Kratos && p.check_gap != CheckGap::MappingCheck {
+            shift_nodes(model, &sub_nodes, d, -1.0);
+        }
+    }
+    if let (true, Some(d)) = (moved, &delta) {
+        // MappingCheck restores the coordinates after the mapping (CheckPairing step c).
+        shift_nodes(model, &sub_nodes, d, -1.0);
+        compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
+    }
+    Ok(())
+}
+
+/// Gives the created pairs their ids — after the largest condition id, in slave id order then
+/// master id order (DESIGN.md §2) — and records them.
+fn finish_pairs(
+    model: &mut ModelPart,
+    pair: &mut PairSearch,
+    mut created: Vec<(ConditionIdx, ConditionIdx)>,
+    mut condition_id: u32,
+) {
+    let ids = model.conditions().ids();
+    created.sort_by_key(|(s, m)| (ids[s.index()], ids[m.index()]));
+    for (s, m) in created {
+        condition_id += 1;
+        let id = ConditionId(condition_id);
+        let master_id = ConditionId(model.conditions().ids()[m.index()]);
+        model.index_map_mut(s).set_new_entity_id(master_id, id);
+        pair.paired.push(PairedCondition { id, slave: s, master: m, active: true });
+    }
+}
+
+/// SearchUsingKDTree (§5.3): the kd-tree over the point list, the parallel per-slave queries
+/// and tests, then the serial, ordered application.
+fn kdtree_search(
+    model: &mut ModelPart,
+    pair: &PairSearch,
+    p: &SearchParameters,
+    compatibility: Compatibility,
+    delta: Option<&[Vector]>,
+    created: &mut Vec<(ConditionIdx, ConditionIdx)>,
+) -> Result<(), Error> {
+    let inverted = p.inverted_search;
+    let sub = pair.sub;
+    let dim = usize::from(pair.instance.dim);
     let check = !inverted || !p.predefined_master_slave;
     let conditions = conditions_by_id(model, sub);
     let points: Vec<(u32, csm_geometry::math::Point)> = conditions
@@ -451,13 +531,13 @@ fn update_mortar_conditions(
     let candidates: Vec<Result<Vec<Candidate>, Error>> = {
         let cx = QueryContext {
             model,
-            params: &p,
+            params: p,
             tree: &tree,
             bbf,
             dim,
             slave_nodes: usize::from(pair.instance.slave_nodes),
             compatibility,
-            delta: delta.as_deref(),
+            delta,
             nodal_normals: &nodal_normals,
             nodal_h: &h_col,
             active_check_factor: acf,
@@ -472,50 +552,12 @@ fn update_mortar_conditions(
             .collect()
     };
     let pcx = PairingContext {
-        params: &p,
+        params: p,
         inverted,
         slave_nodes: usize::from(pair.instance.slave_nodes),
     };
-    let mut created = Vec::new();
     for (s, cands) in slaves.iter().zip(candidates) {
-        apply_candidates(model, &pcx, *s, &cands?, &mut created);
-    }
-    // Pair ids: after the largest id, in slave id order then master id order (DESIGN.md §2).
-    let ids = model.conditions().ids();
-    created.sort_by_key(|(s, m)| (ids[s.index()], ids[m.index()]));
-    for (s, m) in created {
-        condition_id += 1;
-        let id = ConditionId(condition_id);
-        let master_id = ConditionId(model.conditions().ids()[m.index()]);
-        model.index_map_mut(s).set_new_entity_id(master_id, id);
-        pair.paired.push(PairedCondition { id, slave: s, master: m, active: true });
-    }
-    // 8. SetOriginDestinationModelParts: both sides must have conditions.
-    let (mut n_slave, mut n_master) = (0, 0);
-    for c in model.part(sub).conditions() {
-        let f = model.conditions().flags()[c.index()];
-        n_slave += usize::from(f.is(Flag::SLAVE) == !inverted);
-        n_master += usize::from(f.is(Flag::MASTER) == !inverted);
-    }
-    if n_slave == 0 || n_master == 0 {
-        return Err(ErrorKind::RejectedByKratos(format!(
-            "pair {}: no origin/destination conditions ({n_slave} slave-side, {n_master} \
-             master-side)",
-            pair.key
-        ))
-        .into());
-    }
-    // 9. No/DirectCheck with a dynamic search: Kratos subtracts the increment although the
-    // nodes were never moved (Q9); robust mode does not.
-    if let (false, Some(d)) = (moved, &delta) {
-        if compatibility == Compatibility::Kratos && p.check_gap != CheckGap::MappingCheck {
-            shift_nodes(model, &sub_nodes, d, -1.0);
-        }
-    }
-    if let (true, Some(d)) = (moved, &delta) {
-        // MappingCheck restores the coordinates after the mapping (CheckPairing step c).
-        shift_nodes(model, &sub_nodes, d, -1.0);
-        compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
+        apply_candidates(model, &pcx, *s, &cands?, created);
     }
     Ok(())
 }
