@@ -19,6 +19,7 @@ mod error;
 mod faces;
 mod geometry;
 mod intersection;
+mod kdop;
 mod kind;
 pub mod math;
 mod obb;
@@ -35,6 +36,7 @@ pub use intersection::{
     CROSS_AXIS_GUARD, ObbIntersection, SatMode, TOUCH_TOLERANCE, direct_obb_obb, direct_obb2_obb2,
     sat_obb_obb, sat_obb2_obb2, segment_segment_intersect, triangle_triangle_intersect,
 };
+pub use kdop::{KDOP18_DIRECTIONS, Kdop18};
 pub use kind::GeometryKind;
 pub use obb::{Obb, Obb2};
 pub use projection::{fast_project, fast_project_direction};

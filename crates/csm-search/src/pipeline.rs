@@ -19,3 +19,6 @@ mod step_jump;
 
 pub use result::{NodeResult, SearchResult};
 pub use search::{ContactSearch, PairedCondition};
+
+#[cfg(test)]
+mod tests;

@@ -3,7 +3,7 @@
 //! the step's data, so the slave loop can run them in parallel.
 
 use csm_geometry::math::{EPS, Point, Real, Vector};
-use csm_geometry::{Geometry, Obb, Obb2, ObbIntersection, SatMode, fast_project_direction};
+use csm_geometry::{Geometry, Kdop18, Obb, Obb2, ObbIntersection, SatMode, fast_project_direction};
 use csm_model::{ConditionIdx, ModelPart, NodeIdx};
 use csm_trees::KdTree;
 
@@ -63,6 +63,8 @@ pub(crate) struct QueryContext<'a> {
     /// Master bounding boxes by condition index (`None`: not a point-list condition or not
     /// needed).
     pub master_bvs: &'a [Option<Result<Bv, csm_geometry::Error>>],
+    /// Master 18-DOPs (enlarged by `bbf`) by condition index, for `kdop_18`.
+    pub master_kdops: &'a [Option<Kdop18>],
 }
 
 /// One candidate master that survived the order-independent tests.
@@ -74,12 +76,18 @@ pub(crate) struct Candidate {
 }
 
 fn geometry_error(model: &ModelPart, c: ConditionIdx, e: &csm_geometry::Error) -> Error {
-    ErrorKind::Geometry { condition: model.conditions().ids()[c.index()], message: e.to_string() }
-        .into()
+    ErrorKind::Geometry {
+        condition: model.conditions().ids()[c.index()],
+        message: e.to_string(),
+    }
+    .into()
 }
 
 fn with_obb(t: SearchTreeType) -> bool {
-    matches!(t, SearchTreeType::KdtreeInRadiusWithObb | SearchTreeType::KdtreeInBoxWithObb)
+    matches!(
+        t,
+        SearchTreeType::KdtreeInRadiusWithObb | SearchTreeType::KdtreeInBoxWithObb
+    )
 }
 
 /// The candidates of slave `s`, in kd-tree result order (Kratos' traversal order).
@@ -92,7 +100,10 @@ pub(crate) fn slave_candidates(
     let model = cx.model;
     let conditions = model.conditions();
     let nodes = conditions.nodes(s.index());
-    let points: Vec<Point> = nodes.iter().map(|n| model.nodes().coordinates()[n.index()]).collect();
+    let points: Vec<Point> = nodes
+        .iter()
+        .map(|n| model.nodes().coordinates()[n.index()])
+        .collect();
     let kind = conditions.kind(s.index());
     let geometry = Geometry::new(kind, &points).map_err(|e| geometry_error(model, s, &e))?;
     let p = cx.params;
@@ -101,10 +112,13 @@ pub(crate) fn slave_candidates(
     let slave_bv = Bv::build(&geometry, cx.dim, cx.bbf, p.octree.build_from_bounding_box)
         .map_err(|e| geometry_error(model, s, &e))?;
     let mut found: Vec<u32> = Vec::new();
-    let tree_error = |e: csm_trees::Error| Error::from(ErrorKind::Geometry {
-        condition: conditions.ids()[s.index()],
-        message: format!("kd-tree query: {e}"),
-    });
+    let mut query_radius = 0.0;
+    let tree_error = |e: csm_trees::Error| {
+        Error::from(ErrorKind::Geometry {
+            condition: conditions.ids()[s.index()],
+            message: format!("kd-tree query: {e}"),
+        })
+    };
     match p.type_search {
         SearchTreeType::KdtreeInRadius
         | SearchTreeType::KdtreeInRadiusWithObb
@@ -112,6 +126,7 @@ pub(crate) fn slave_candidates(
         | SearchTreeType::OctreeWithObb => {
             let center = geometry.center();
             let radius = p.search_factor * geometry.bounding_sphere().radius;
+            query_radius = radius;
             let query = match cx.delta {
                 Some(delta) => {
                     let local = geometry
@@ -122,10 +137,14 @@ pub(crate) fn slave_candidates(
                 }
                 None => center,
             };
-            cx.tree.in_radius(&query, radius, p.allocation_size, &mut found).map_err(tree_error)?;
+            cx.tree
+                .in_radius(&query, radius, p.allocation_size, &mut found)
+                .map_err(tree_error)?;
         }
         SearchTreeType::KdtreeInBox | SearchTreeType::KdtreeInBoxWithObb => {
-            let length = geometry.length().map_err(|e| geometry_error(model, s, &e))?;
+            let length = geometry
+                .length()
+                .map_err(|e| geometry_error(model, s, &e))?;
             let l = p.search_factor * length;
             let aabb = geometry.aabb();
             let shifted = |corner: &Point| -> Result<Point, Error> {
@@ -152,7 +171,9 @@ pub(crate) fn slave_candidates(
             };
             let lo = shifted(&aabb.min)?;
             let hi = shifted(&aabb.max)?;
-            cx.tree.in_box(&lo, &hi, p.allocation_size, &mut found).map_err(tree_error)?;
+            cx.tree
+                .in_box(&lo, &hi, p.allocation_size, &mut found)
+                .map_err(tree_error)?;
         }
     }
     let mode = match cx.compatibility {
@@ -161,8 +182,24 @@ pub(crate) fn slave_candidates(
     };
     let slave_id = conditions.ids()[s.index()];
     let slave_normal = model.condition_normals()[s.index()];
+    // kdop_18: the slave's 18-DOP enlarged like the OBBs; in robust mode first swept along
+    // the slave normal over the query radius, so a master up to that far in front of or
+    // behind the face (penetration) is not lost.
+    let slave_kdop = (p.type_search == SearchTreeType::Kdop).then(|| {
+        let k = match cx.compatibility {
+            Compatibility::Kratos => Kdop18::from_points(&points),
+            Compatibility::Robust => Kdop18::swept(&points, &slave_normal, query_radius),
+        };
+        k.enlarged(cx.bbf)
+    });
     for &c in &found {
         let master = ConditionIdx(c);
+        if let Some(kdop) = &slave_kdop {
+            match &cx.master_kdops[master.index()] {
+                Some(m) if kdop.intersects(m) => {}
+                _ => continue,
+            }
+        }
         if with_obb(p.type_search) {
             let bv = match &cx.master_bvs[master.index()] {
                 Some(Ok(bv)) => bv,
@@ -215,15 +252,22 @@ pub(crate) fn direct_check_nodes(
     let model = cx.model;
     let conditions = model.conditions();
     let master_nodes = conditions.nodes(master.index());
-    let master_points: Vec<Point> =
-        master_nodes.iter().map(|n| model.nodes().coordinates()[n.index()]).collect();
+    let master_points: Vec<Point> = master_nodes
+        .iter()
+        .map(|n| model.nodes().coordinates()[n.index()])
+        .collect();
     let master_geometry = Geometry::new(conditions.kind(master.index()), &master_points)
         .map_err(|e| geometry_error(model, master, &e))?;
     let n_s = model.condition_normals()[s.index()];
     let n_c = *n_c;
     let origin = master_points[0];
     let mut pass = 0u32;
-    for (i, node) in conditions.nodes(s.index()).iter().take(cx.slave_nodes).enumerate() {
+    for (i, node) in conditions
+        .nodes(s.index())
+        .iter()
+        .take(cx.slave_nodes)
+        .enumerate()
+    {
         let p = model.nodes().coordinates()[node.index()];
         let limit = cx.nodal_h[node.index()] * cx.active_check_factor;
         for v in [n_s, -n_c] {

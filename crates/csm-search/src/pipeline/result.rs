@@ -47,11 +47,16 @@ impl SearchResult {
             .iter()
             .map(|(id, n)| {
                 let gap = n.normal_gap.filter(|g| g.is_finite());
-                (id.to_string(), json!({"normal_gap": gap, "active": n.active}))
+                (
+                    id.to_string(),
+                    json!({"normal_gap": gap, "active": n.active}),
+                )
             })
             .collect();
-        let timings: Map<String, Value> =
-            timings.iter().map(|(k, v)| ((*k).to_owned(), json!(v))).collect();
+        let timings: Map<String, Value> = timings
+            .iter()
+            .map(|(k, v)| ((*k).to_owned(), json!(v)))
+            .collect();
         let mut out = Map::new();
         out.insert("format".into(), json!("csm-result/1"));
         out.insert("pairs".into(), Value::Object(pairs));
@@ -64,6 +69,10 @@ impl SearchResult {
 
     /// Total number of (slave, master) entries over every pair key.
     pub fn n_pairs(&self) -> usize {
-        self.pairs.values().flat_map(|m| m.values()).map(Vec::len).sum()
+        self.pairs
+            .values()
+            .flat_map(|m| m.values())
+            .map(Vec::len)
+            .sum()
     }
 }

@@ -4,7 +4,7 @@
 use std::collections::BTreeSet;
 
 use csm_geometry::math::{EPS, Real, Vector};
-use csm_geometry::Geometry;
+use csm_geometry::{Geometry, Kdop18};
 use csm_model::{
     ConditionId, ConditionIdx, Flag, ModelPart, NodalHMode, NodeIdx, NormalsMode, PartIdx,
     ScalarVar, VectorVar, assign_nodal_h, compute_unit_normals,
@@ -14,13 +14,17 @@ use rayon::prelude::*;
 
 use super::candidates::{Bv, Candidate, QueryContext, slave_candidates};
 use super::octree::{OctreeContext, search_octree};
+pub use super::pairing::PairedCondition;
 use super::pairing::{PairingContext, apply_candidates};
 use super::result::{NodeResult, SearchResult};
 use super::step_jump::compute_step_jump;
-pub use super::pairing::PairedCondition;
 use crate::error::{Error, ErrorKind};
-use crate::setup::{CheckGap, Compatibility, ContactType, SearchParameters, SearchSetup, SearchTreeType};
-use crate::stages::{ContactParts, SearchInstance, assign_contact_flags, dispatch, transfer_to_contact};
+use crate::setup::{
+    CheckGap, Compatibility, ContactType, SearchParameters, SearchSetup, SearchTreeType,
+};
+use crate::stages::{
+    ContactParts, SearchInstance, assign_contact_flags, dispatch, transfer_to_contact,
+};
 
 /// The search of one pair key (one Kratos search process).
 #[derive(Debug)]
@@ -96,7 +100,10 @@ impl ContactSearch {
         if setup.adapt_search {
             // ContactUtilities::CalculateRelativeSizeMesh over every node (Q33: a node in no
             // element has DBL_MAX and makes the factor infinite).
-            let h = model.nodal_data().scalar(ScalarVar::NodalH, 0).unwrap_or(&[]);
+            let h = model
+                .nodal_data()
+                .scalar(ScalarVar::NodalH, 0)
+                .unwrap_or(&[]);
             let max = h.iter().copied().fold(0.0, Real::max);
             let min = h.iter().copied().fold(Real::MAX, Real::min);
             let factor = max / min;
@@ -111,7 +118,9 @@ impl ContactSearch {
                 pair.search.search_factor *= factor;
             }
             setup.active_check_factor *= factor;
-            model.process_info_mut().set_number("ACTIVE_CHECK_FACTOR", setup.active_check_factor);
+            model
+                .process_info_mut()
+                .set_number("ACTIVE_CHECK_FACTOR", setup.active_check_factor);
         }
         let domain_size = model.process_info().number("DOMAIN_SIZE").unwrap_or(0.0) as u32;
         let mut pairs = Vec::new();
@@ -125,12 +134,14 @@ impl ContactSearch {
                     )
                     .into());
                 }
-                SearchTreeType::Kdop => {
-                    return Err(ErrorKind::NotImplemented("type_search kdop_18".to_owned()).into());
-                }
                 _ => {}
             }
-            let instance = dispatch(model, parts.contact, domain_size, params.predefined_master_slave)?;
+            let instance = dispatch(
+                model,
+                parts.contact,
+                domain_size,
+                params.predefined_master_slave,
+            )?;
             let sub = parts.subs[&key];
             // Base process construction (§3): NORMAL_GAP := 0 (MappingCheck), ACTIVE := false
             // on every condition of ContactSub (this makes ACTIVE defined, §5.3).
@@ -161,10 +172,20 @@ impl ContactSearch {
                 ))
                 .into());
             }
-            pairs.push(PairSearch { key, params, instance, sub, paired: Vec::new() });
+            pairs.push(PairSearch {
+                key,
+                params,
+                instance,
+                sub,
+                paired: Vec::new(),
+            });
         }
         shared_conditions_check(model, &pairs)?;
-        if setup.pairs.values().any(|p| p.search.check_gap == CheckGap::MappingCheck) {
+        if setup
+            .pairs
+            .values()
+            .any(|p| p.search.check_gap == CheckGap::MappingCheck)
+        {
             warnings.push(
                 "check_gap MappingCheck: the mortar NormalGap mapping is not implemented yet, so \
                  the MappingCheck pruning is not applied: pairs are the broad- and narrow-phase \
@@ -173,7 +194,13 @@ impl ContactSearch {
                     .to_owned(),
             );
         }
-        Ok(ContactSearch { setup, parts, pairs, database_step: 0, warnings })
+        Ok(ContactSearch {
+            setup,
+            parts,
+            pairs,
+            database_step: 0,
+            warnings,
+        })
     }
 
     /// The setup in force (after `adapt_search`).
@@ -183,7 +210,10 @@ impl ContactSearch {
 
     /// The paired conditions of pair `key` after the last step.
     pub fn paired_conditions(&self, key: u32) -> &[PairedCondition] {
-        self.pairs.iter().find(|p| p.key == key).map_or(&[], |p| &p.paired)
+        self.pairs
+            .iter()
+            .find(|p| p.key == key)
+            .map_or(&[], |p| &p.paired)
     }
 
     /// The search instance (Kratos template class) chosen for pair `key`.
@@ -247,7 +277,10 @@ impl ContactSearch {
 
     /// The RESULT.json content of the current state.
     pub fn result(&self, model: &ModelPart) -> SearchResult {
-        let mut result = SearchResult { warnings: self.warnings.clone(), ..Default::default() };
+        let mut result = SearchResult {
+            warnings: self.warnings.clone(),
+            ..Default::default()
+        };
         let ids = model.conditions().ids();
         let node_ids = model.nodes().ids();
         for pair in &self.pairs {
@@ -258,7 +291,11 @@ impl ContactSearch {
                 if model.conditions().flags()[c.index()].is(Flag::SLAVE) != !inverted {
                     continue;
                 }
-                let masters: Vec<u32> = model.index_map(*c).masters().map(ConditionId::get).collect();
+                let masters: Vec<u32> = model
+                    .index_map(*c)
+                    .masters()
+                    .map(ConditionId::get)
+                    .collect();
                 slaves.insert(ids[c.index()], masters);
                 nodes.extend(model.conditions().nodes(c.index()).iter().copied());
             }
@@ -267,10 +304,13 @@ impl ContactSearch {
                 // NORMAL_GAP is never written by No/DirectCheck, and MappingCheck's mapping is
                 // not implemented yet: null either way.
                 let normal_gap = None;
-                result.nodes.insert(node_ids[n.index()], NodeResult {
-                    normal_gap,
-                    active: flags.is(Flag::ACTIVE),
-                });
+                result.nodes.insert(
+                    node_ids[n.index()],
+                    NodeResult {
+                        normal_gap,
+                        active: flags.is(Flag::ACTIVE),
+                    },
+                );
             }
             result.pairs.insert(pair.key.to_string(), slaves);
             result.paired_conditions += pair.paired.len();
@@ -283,7 +323,12 @@ impl ContactSearch {
 /// `process_info` overrides.
 fn emulate_python_state(model: &mut ModelPart, setup: &SearchSetup) {
     let data = model.nodal_data_mut();
-    for v in [VectorVar::Displacement, VectorVar::Velocity, VectorVar::Acceleration, VectorVar::Normal] {
+    for v in [
+        VectorVar::Displacement,
+        VectorVar::Velocity,
+        VectorVar::Acceleration,
+        VectorVar::Normal,
+    ] {
         data.add_vector(v);
     }
     data.add_scalar(ScalarVar::NodalH);
@@ -340,8 +385,10 @@ fn clear_mortar_conditions(model: &mut ModelPart, pair: &mut PairSearch) {
     }
     pair.paired = kept;
     let nodes = model.part(pair.sub).nodes().to_vec();
-    let inactive: Vec<NodeIdx> =
-        nodes.into_iter().filter(|n| !model.nodes().flags()[n.index()].is(Flag::ACTIVE)).collect();
+    let inactive: Vec<NodeIdx> = nodes
+        .into_iter()
+        .filter(|n| !model.nodes().flags()[n.index()].is(Flag::ACTIVE))
+        .collect();
     let data = model.nodal_data_mut();
     if let Some(col) = data.scalar_mut(ScalarVar::LagrangeMultiplierContactPressure, 0) {
         for n in &inactive {
@@ -403,7 +450,14 @@ fn update_mortar_conditions(
         };
         search_octree(model, &ocx, &mut created)?;
     } else {
-        kdtree_search(model, pair, &p, compatibility, delta.as_deref(), &mut created)?;
+        kdtree_search(
+            model,
+            pair,
+            &p,
+            compatibility,
+            delta.as_deref(),
+            &mut created,
+        )?;
     }
     finish_pairs(model, pair, created, condition_id);
     // 8. SetOriginDestinationModelParts: both sides must have conditions.
@@ -451,7 +505,12 @@ fn finish_pairs(
         let id = ConditionId(condition_id);
         let master_id = ConditionId(model.conditions().ids()[m.index()]);
         model.index_map_mut(s).set_new_entity_id(master_id, id);
-        pair.paired.push(PairedCondition { id, slave: s, master: m, active: true });
+        pair.paired.push(PairedCondition {
+            id,
+            slave: s,
+            master: m,
+            active: true,
+        });
     }
 }
 
@@ -479,14 +538,28 @@ fn kdtree_search(
             for n in nodes {
                 center.coords += model.nodes().coordinates()[n.index()].coords;
             }
-            (c.get(), csm_geometry::math::Point::from(center.coords / nodes.len() as Real))
+            (
+                c.get(),
+                csm_geometry::math::Point::from(center.coords / nodes.len() as Real),
+            )
         })
         .collect();
     let tree = KdTree::new(&points, p.bucket_size).map_err(|e| {
-        Error::from(ErrorKind::Model(format!("kd-tree of the master conditions: {e}")))
+        Error::from(ErrorKind::Model(format!(
+            "kd-tree of the master conditions: {e}"
+        )))
     })?;
-    let h_col = model.nodal_data().scalar(ScalarVar::NodalH, 0).unwrap_or(&[]).to_vec();
-    let hmax = model.part(sub).nodes().iter().map(|n| h_col[n.index()]).fold(0.0, Real::max);
+    let h_col = model
+        .nodal_data()
+        .scalar(ScalarVar::NodalH, 0)
+        .unwrap_or(&[])
+        .to_vec();
+    let hmax = model
+        .part(sub)
+        .nodes()
+        .iter()
+        .map(|n| h_col[n.index()])
+        .fold(0.0, Real::max);
     let hmax = if hmax < EPS { 1.0 } else { hmax };
     let bbf = p.octree.bounding_box_factor * hmax;
     let with_obb = matches!(
@@ -518,6 +591,18 @@ fn kdtree_search(
             master_bvs[c as usize] = Some(bv);
         }
     }
+    let mut master_kdops: Vec<Option<Kdop18>> = vec![None; model.conditions().len()];
+    if p.type_search == SearchTreeType::Kdop {
+        for (c, _) in &points {
+            let pts: Vec<_> = model
+                .conditions()
+                .nodes(*c as usize)
+                .iter()
+                .map(|n| model.nodes().coordinates()[n.index()])
+                .collect();
+            master_kdops[*c as usize] = Some(Kdop18::from_points(&pts).enlarged(bbf));
+        }
+    }
     let slaves: Vec<ConditionIdx> = conditions
         .iter()
         .copied()
@@ -526,8 +611,15 @@ fn kdtree_search(
             f.is_defined(Flag::ACTIVE) && f.is(Flag::SLAVE) == !inverted
         })
         .collect();
-    let nodal_normals = model.nodal_data().vector(VectorVar::Normal, 0).unwrap_or(&[]).to_vec();
-    let acf = model.process_info().number("ACTIVE_CHECK_FACTOR").unwrap_or(0.0);
+    let nodal_normals = model
+        .nodal_data()
+        .vector(VectorVar::Normal, 0)
+        .unwrap_or(&[])
+        .to_vec();
+    let acf = model
+        .process_info()
+        .number("ACTIVE_CHECK_FACTOR")
+        .unwrap_or(0.0);
     let candidates: Vec<Result<Vec<Candidate>, Error>> = {
         let cx = QueryContext {
             model,
@@ -542,6 +634,7 @@ fn kdtree_search(
             nodal_h: &h_col,
             active_check_factor: acf,
             master_bvs: &master_bvs,
+            master_kdops: &master_kdops,
         };
         slaves
             .par_iter()

@@ -1,0 +1,320 @@
+//! Tests of the driver on scenes built in code, against brute-force oracles.
+
+use std::collections::BTreeMap;
+
+use csm_geometry::math::Point;
+use csm_geometry::{Geometry, GeometryKind};
+use csm_model::{ConditionId, ModelPart, NodeId, NodeIdx, PropertiesId};
+
+use super::candidates::Bv;
+use super::*;
+use crate::{ErrorKind, parse_setup};
+
+const H: f64 = 0.25;
+
+/// Two square plates of `n × n` cells split into triangles: `Slave` at height `gap` facing
+/// down, `Master` at height 0 facing up (or down too with `master_down`). The slave grid is
+/// shifted by a third of a cell so the meshes do not match.
+fn plates(n: usize, gap: f64, master_down: bool) -> ModelPart {
+    let mut mp = ModelPart::new("Structure");
+    let mut next_node = 1u32;
+    let mut next_cond = 1u32;
+    for (name, z, shift, down) in [
+        ("Slave", gap, H / 3.0, true),
+        ("Master", 0.0, 0.0, master_down),
+    ] {
+        let first = next_node;
+        for j in 0..=n {
+            for i in 0..=n {
+                let (x, y) = (i as f64 * H + shift, j as f64 * H + shift);
+                mp.add_node(NodeId(next_node), Point::new(x, y, z)).unwrap();
+                next_node += 1;
+            }
+        }
+        let id = |i: usize, j: usize| NodeId(first + (j * (n + 1) + i) as u32);
+        let part = mp.create_part(name).unwrap();
+        let mut conds = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                // Counter-clockwise from above = normal up.
+                let tris = if down {
+                    [[a, c, b], [a, d, c]]
+                } else {
+                    [[a, b, c], [a, c, d]]
+                };
+                for t in tris {
+                    let idx = mp
+                        .add_condition(
+                            ConditionId(next_cond),
+                            GeometryKind::Triangle3D3,
+                            "",
+                            &t,
+                            PropertiesId(0),
+                        )
+                        .unwrap();
+                    conds.push(idx);
+                    next_cond += 1;
+                }
+            }
+        }
+        let nodes: Vec<NodeIdx> = (first..next_node)
+            .map(|i| mp.nodes().index_of(i).unwrap())
+            .collect();
+        mp.add_nodes_to_part(part, &nodes);
+        mp.add_conditions_to_part(part, &conds);
+    }
+    mp.process_info_mut().set_number("DOMAIN_SIZE", 3.0);
+    mp
+}
+
+fn setup(search_parameters: &str, extra: &str) -> crate::SearchSetup {
+    let text = format!(
+        r#"{{"contact_model_part": {{"0": ["Slave", "Master"]}},
+            "assume_master_slave": {{"0": ["Slave"]}},
+            "nodal_h": {H}, "search_parameters": {search_parameters} {extra}}}"#
+    );
+    parse_setup(&text, "test").unwrap()
+}
+
+fn run(model: &mut ModelPart, s: &crate::SearchSetup) -> SearchResult {
+    let mut search = ContactSearch::initialize(model, s).unwrap();
+    search.step(model).unwrap()
+}
+
+fn pairs(r: &SearchResult) -> &BTreeMap<u32, Vec<u32>> {
+    &r.pairs["0"]
+}
+
+fn points_of(model: &ModelPart, c: usize) -> Vec<Point> {
+    model
+        .conditions()
+        .nodes(c)
+        .iter()
+        .map(|n| model.nodes().coordinates()[n.index()])
+        .collect()
+}
+
+/// Brute force: every master whose centre is strictly inside the slave's search sphere.
+fn radius_oracle(model: &ModelPart, search_factor: f64) -> BTreeMap<u32, Vec<u32>> {
+    let ids = model.conditions().ids();
+    let slave = model.find_part("Slave").unwrap();
+    let master = model.find_part("Master").unwrap();
+    let mut out = BTreeMap::new();
+    for s in model.part(slave).conditions() {
+        let sp = points_of(model, s.index());
+        let g = Geometry::new(GeometryKind::Triangle3D3, &sp).unwrap();
+        let (c, r) = (g.center(), search_factor * g.bounding_sphere().radius);
+        let mut masters: Vec<u32> = model
+            .part(master)
+            .conditions()
+            .iter()
+            .filter(|m| {
+                let mg = points_of(model, m.index());
+                let mc = Geometry::new(GeometryKind::Triangle3D3, &mg)
+                    .unwrap()
+                    .center();
+                (mc - c).norm_squared() < r * r
+            })
+            .map(|m| ids[m.index()])
+            .collect();
+        masters.sort_unstable();
+        out.insert(ids[s.index()], masters);
+    }
+    out
+}
+
+#[test]
+fn no_check_in_radius_equals_the_brute_force_radius_query() {
+    let mut model = plates(6, 0.01, false);
+    let r = run(
+        &mut model,
+        &setup(
+            r#"{"type_search": "in_radius", "check_gap": "no_check"}"#,
+            "",
+        ),
+    );
+    assert_eq!(pairs(&r), &radius_oracle(&model, 3.5));
+    assert_eq!(r.paired_conditions, r.n_pairs());
+    assert!(
+        r.nodes.values().all(|n| n.active && n.normal_gap.is_none()),
+        "NoCheck activates"
+    );
+}
+
+#[test]
+fn obb_filter_keeps_a_subset_whose_boxes_intersect() {
+    let mut model = plates(6, 0.01, false);
+    let s = setup(
+        r#"{"type_search": "in_radius_with_obb", "check_gap": "no_check"}"#,
+        "",
+    );
+    let r = run(&mut model, &s);
+    let oracle = radius_oracle(&model, 3.5);
+    let mut total = 0;
+    for (slave, masters) in pairs(&r) {
+        let s_idx = model.conditions().index_of(*slave).unwrap();
+        let sb = Bv::build(
+            &Geometry::new(GeometryKind::Triangle3D3, &points_of(&model, s_idx)).unwrap(),
+            3,
+            0.1 * H,
+            true,
+        )
+        .unwrap();
+        for m in masters {
+            assert!(oracle[slave].contains(m));
+            let m_idx = model.conditions().index_of(*m).unwrap();
+            let mb = Bv::build(
+                &Geometry::new(GeometryKind::Triangle3D3, &points_of(&model, m_idx)).unwrap(),
+                3,
+                0.1 * H,
+                true,
+            )
+            .unwrap();
+            assert!(
+                matches!((sb, mb), (Bv::D3(a), Bv::D3(b)) if a.intersects(&b, csm_geometry::ObbIntersection::Sat, csm_geometry::SatMode::Kratos))
+            );
+            total += 1;
+        }
+    }
+    let radius_total: usize = oracle.values().map(Vec::len).sum();
+    assert!(
+        total > 0 && total < radius_total,
+        "{total} of {radius_total}"
+    );
+}
+
+#[test]
+fn mapping_check_rejects_masters_facing_the_same_way() {
+    let mut model = plates(4, 0.01, true);
+    let r = run(&mut model, &setup(r#"{"type_search": "in_radius"}"#, ""));
+    assert!(pairs(&r).values().all(Vec::is_empty));
+    assert!(r.warnings.iter().any(|w| w.contains("MappingCheck")));
+    let mut model = plates(4, 0.01, false);
+    let r = run(&mut model, &setup(r#"{"type_search": "in_radius"}"#, ""));
+    assert!(r.n_pairs() > 0);
+    assert_eq!(
+        r.paired_conditions, 0,
+        "MappingCheck creates pairs after the mapping"
+    );
+}
+
+#[test]
+fn direct_check_needs_the_gap_below_the_active_check_length() {
+    // Gap 0.01 > NODAL_H · active_check_factor = 0.0025: nothing; a penetration: pairs.
+    let sp = r#"{"type_search": "in_radius", "check_gap": "direct_check"}"#;
+    let mut model = plates(4, 0.01, false);
+    let r = run(&mut model, &setup(sp, ""));
+    assert_eq!(r.n_pairs(), 0);
+    assert!(r.nodes.values().all(|n| !n.active));
+    let mut model = plates(4, -0.01, false);
+    let r = run(&mut model, &setup(sp, ""));
+    assert!(r.n_pairs() > 0);
+    assert!(r.nodes.values().filter(|n| n.active).count() > 0);
+}
+
+#[test]
+fn results_are_identical_for_any_thread_count() {
+    let s = setup(
+        r#"{"type_search": "in_radius_with_obb", "check_gap": "direct_check"}"#,
+        "",
+    );
+    let run_with = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut model = plates(8, -0.005, false);
+            run(&mut model, &s)
+        })
+    };
+    let one = run_with(1);
+    assert!(one.n_pairs() > 0);
+    assert_eq!(one, run_with(2));
+    assert_eq!(one, run_with(3));
+}
+
+#[test]
+fn robust_kdop_keeps_pairs_that_deep_penetration_makes_the_obbs_lose() {
+    // Penetration 0.2 > 2 · bounding_box_factor · NODAL_H = 0.05.
+    let deep = -0.2;
+    let obb = {
+        let mut model = plates(4, deep, false);
+        run(
+            &mut model,
+            &setup(
+                r#"{"type_search": "in_radius_with_obb", "check_gap": "no_check"}"#,
+                "",
+            ),
+        )
+    };
+    assert_eq!(obb.n_pairs(), 0, "Q42: the OBBs are too thin");
+    let kdop = |compat: &str| {
+        let mut model = plates(4, deep, false);
+        let s = setup(
+            r#"{"type_search": "kdop_18", "check_gap": "no_check"}"#,
+            &format!(r#", "compatibility": "{compat}""#),
+        );
+        run(&mut model, &s)
+    };
+    assert_eq!(
+        kdop("kratos").n_pairs(),
+        0,
+        "unswept 18-DOPs are as thin as the OBBs"
+    );
+    let robust = kdop("robust");
+    let mut model = plates(4, deep, false);
+    let radius = run(
+        &mut model,
+        &setup(
+            r#"{"type_search": "in_radius", "check_gap": "no_check"}"#,
+            "",
+        ),
+    );
+    assert!(robust.n_pairs() > 0 && robust.n_pairs() <= radius.n_pairs());
+}
+
+#[test]
+fn inverted_search_queries_from_the_master_side() {
+    let mut model = plates(4, 0.01, false);
+    let s = setup(
+        "{}",
+        r#", "cpp_search_parameters": {"inverted_search": true, "check_gap": "NoCheck",
+            "condition_name": "ALMFrictionlessMortarContact", "normal_orientation_threshold": 0.1}"#,
+    );
+    let r = run(&mut model, &s);
+    let master = model.find_part("Master").unwrap();
+    let master_ids: Vec<u32> = model
+        .part(master)
+        .conditions()
+        .iter()
+        .map(|c| model.conditions().ids()[c.index()])
+        .collect();
+    assert_eq!(pairs(&r).keys().copied().collect::<Vec<_>>(), master_ids);
+    assert!(r.n_pairs() > 0);
+}
+
+#[test]
+fn a_degenerate_slave_is_an_error_naming_it() {
+    let mut model = plates(2, 0.01, false);
+    // Collapse slave condition 1 onto a line.
+    let c = model.conditions().index_of(1).unwrap();
+    let nodes: Vec<NodeIdx> = model.conditions().nodes(c).to_vec();
+    let p0 = model.nodes().coordinates()[nodes[0].index()];
+    model.nodes_mut().coordinates_mut()[nodes[1].index()] = p0;
+    model.nodes_mut().coordinates_mut()[nodes[2].index()] = p0;
+    let s = setup(
+        r#"{"type_search": "in_radius", "check_gap": "no_check"}"#,
+        "",
+    );
+    let e = ContactSearch::initialize(&mut model, &s)
+        .unwrap()
+        .step(&mut model)
+        .unwrap_err();
+    assert!(
+        matches!(e.kind(), ErrorKind::Model(_) | ErrorKind::Geometry { .. }),
+        "{e}"
+    );
+    assert!(e.to_string().contains("condition 1:"), "{e}");
+}
