@@ -2,6 +2,7 @@
 
 mod cli_info;
 mod kratos_conformance;
+mod kratos_search;
 
 use std::path::PathBuf;
 use std::process::{Command, Output};

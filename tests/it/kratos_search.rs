@@ -1,0 +1,134 @@
+//! The search against Kratos 10.4.4 on the fixture scenes (`tests/fixtures/search/`, made by
+//! `cargo xtask fixtures` through `tools/kratos_fixtures_search.py`).
+//!
+//! No/DirectCheck: pair sets, ACTIVE flags and the number of paired conditions must be
+//! identical. MappingCheck: csm does not prune with the mortar mapping yet, so Kratos' final
+//! pairs must be a subset of csm's candidates (the broad and narrow phases lose nothing), and
+//! the result must carry the warning that says so.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde_json::Value;
+
+fn fixture_files() -> Vec<PathBuf> {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/search");
+    let mut files = Vec::new();
+    for scene in std::fs::read_dir(&root).into_iter().flatten().flatten() {
+        for f in std::fs::read_dir(scene.path()).into_iter().flatten().flatten() {
+            if f.path().extension().is_some_and(|e| e == "json") {
+                files.push(f.path());
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+type Pairs = BTreeMap<String, BTreeMap<String, Vec<u64>>>;
+
+fn pairs_of(v: &Value) -> Pairs {
+    serde_json::from_value(v["pairs"].clone()).expect("pairs object")
+}
+
+fn active_of(v: &Value) -> BTreeMap<String, bool> {
+    v["nodes"]
+        .as_object()
+        .expect("nodes object")
+        .iter()
+        .map(|(k, n)| (k.clone(), n["active"].as_bool().unwrap_or(false)))
+        .collect()
+}
+
+/// Runs csm on a fixture's mesh and setup; `Err` carries csm's message.
+fn run_csm(fixture: &Value) -> Result<Value, String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mesh = root.join(fixture["mesh"].as_str().expect("mesh path"));
+    let mut model = csm::io::read_mesh(&mesh).map_err(|e| e.to_string())?;
+    let setup = csm::cli::load_setup(&fixture["setup"].to_string(), "fixture setup")?;
+    let (result, _) = csm::cli::run_search(&mut model, &setup, 0.0)?;
+    Ok(result.to_json(&[]))
+}
+
+fn check_gap(fixture: &Value) -> &'static str {
+    let sp = &fixture["setup"]["search_parameters"]["check_gap"];
+    let cpp = &fixture["setup"]["cpp_search_parameters"]["check_gap"];
+    match sp.as_str().or(cpp.as_str()) {
+        Some("no_check" | "NoCheck") => "no_check",
+        Some("direct_check" | "DirectCheck") => "direct_check",
+        _ => "mapping_check",
+    }
+}
+
+#[test]
+fn pairs_match_kratos_on_every_fixture() {
+    let files = fixture_files();
+    assert!(files.len() >= 40, "expected the search fixtures, found {}", files.len());
+    let mut failures = Vec::new();
+    let mut summary = BTreeMap::<&str, (usize, usize)>::new();
+    for file in &files {
+        let name = file.strip_prefix(env!("CARGO_MANIFEST_DIR")).unwrap_or(file).display().to_string();
+        let fixture: Value =
+            serde_json::from_str(&std::fs::read_to_string(file).unwrap()).expect("fixture JSON");
+        let gap = check_gap(&fixture);
+        let entry = summary.entry(gap).or_default();
+        entry.0 += 1;
+        let ours = run_csm(&fixture);
+        if let Some(kratos_error) = fixture.get("error") {
+            match ours {
+                Err(_) => entry.1 += 1,
+                Ok(_) => failures.push(format!("{name}: Kratos fails ({kratos_error}), csm does not")),
+            }
+            continue;
+        }
+        let ours = match ours {
+            Ok(v) => v,
+            Err(e) => {
+                failures.push(format!("{name}: csm failed: {e}"));
+                continue;
+            }
+        };
+        let (kp, cp) = (pairs_of(&fixture), pairs_of(&ours));
+        let ok = match gap {
+            "mapping_check" => {
+                let warned = ours["warnings"].to_string().contains("MappingCheck");
+                let subset = kp.iter().all(|(key, slaves)| {
+                    slaves.iter().all(|(s, masters)| {
+                        let mine = cp.get(key).and_then(|m| m.get(s));
+                        masters.iter().all(|m| mine.is_some_and(|v| v.contains(m)))
+                    })
+                });
+                if !subset {
+                    failures.push(format!("{name}: a Kratos pair is missing from csm's candidates"));
+                }
+                if !warned {
+                    failures.push(format!("{name}: no MappingCheck warning"));
+                }
+                subset && warned
+            }
+            _ => {
+                let same_pairs = kp == cp;
+                let same_active = active_of(&fixture) == active_of(&ours);
+                let same_count = fixture["paired_conditions"] == ours["paired_conditions"];
+                if !same_pairs {
+                    failures.push(format!("{name}: pair sets differ"));
+                }
+                if !same_active {
+                    failures.push(format!("{name}: ACTIVE flags differ"));
+                }
+                if !same_count {
+                    failures.push(format!(
+                        "{name}: paired conditions {} (Kratos) vs {} (csm)",
+                        fixture["paired_conditions"], ours["paired_conditions"]
+                    ));
+                }
+                same_pairs && same_active && same_count
+            }
+        };
+        entry.1 += usize::from(ok);
+    }
+    for (gap, (n, ok)) in &summary {
+        eprintln!("{gap}: {ok} of {n} fixtures conform");
+    }
+    assert!(failures.is_empty(), "{} non-conforming:\n{}", failures.len(), failures.join("\n"));
+}
