@@ -353,6 +353,20 @@ impl ModelPart {
         }
     }
 
+    /// Removes conditions from `part` and from every part below it (Kratos'
+    /// `RemoveConditions` on a sub model part); the conditions stay in the root and in the
+    /// part's ancestors.
+    pub fn remove_conditions_from_part(&mut self, part: PartIdx, conditions: &[ConditionIdx]) {
+        let mut sorted = conditions.to_vec();
+        sorted.sort_unstable();
+        let mut stack = vec![part];
+        while let Some(idx) = stack.pop() {
+            let sp = &mut self.parts[idx.index()];
+            sp.conditions.retain(|c| sorted.binary_search(c).is_err());
+            stack.extend(sp.children.iter().copied());
+        }
+    }
+
     /// The coordinates of the nodes of `nodes`, gathered into `out` (cleared first).
     pub fn gather_points(&self, nodes: &[NodeIdx], out: &mut Vec<Point>) {
         out.clear();

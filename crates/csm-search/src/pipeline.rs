@@ -15,6 +15,7 @@ mod octree;
 mod pairing;
 mod result;
 mod search;
+mod shared_conditions;
 mod step_jump;
 
 pub use result::{NodeResult, SearchResult};

@@ -112,3 +112,20 @@ fn sub_parts_are_addressed_by_full_path_and_propagate_to_ancestors() {
     assert!(mp.create_part("A..B").is_err());
     assert!(mp.create_part("").is_err());
 }
+
+#[test]
+fn removing_conditions_from_a_part_keeps_them_in_the_ancestors() {
+    let mut mp = square();
+    let ids = [NodeId(10), NodeId(11), NodeId(12)];
+    let t = GeometryKind::Triangle3D3;
+    let c0 = mp.add_condition(ConditionId(1), t, "", &ids, PropertiesId(0)).unwrap();
+    let c1 = mp.add_condition(ConditionId(2), t, "", &ids, PropertiesId(0)).unwrap();
+    let sub = mp.create_part("Contact.Sub").unwrap();
+    let leaf = mp.create_part("Contact.Sub.Leaf").unwrap();
+    mp.add_conditions_to_part(leaf, &[c0, c1]);
+    mp.remove_conditions_from_part(sub, &[c0]);
+    assert_eq!(mp.part(sub).conditions(), &[c1]);
+    assert_eq!(mp.part(leaf).conditions(), &[c1]);
+    let contact = mp.find_part("Contact").unwrap();
+    assert_eq!(mp.part(contact).conditions(), &[c0, c1]);
+}

@@ -17,6 +17,7 @@ use super::octree::{OctreeContext, search_octree};
 pub use super::pairing::PairedCondition;
 use super::pairing::{PairingContext, apply_candidates};
 use super::result::{NodeResult, SearchResult};
+use super::shared_conditions::check_contact_model_parts;
 use super::step_jump::compute_step_jump;
 use crate::error::{Error, ErrorKind};
 use crate::setup::{
@@ -136,13 +137,14 @@ impl ContactSearch {
                 }
                 _ => {}
             }
+            let sub = parts.subs[&key];
+            check_contact_model_parts(model, sub, setup.compatibility)?;
             let instance = dispatch(
                 model,
                 parts.contact,
                 domain_size,
                 params.predefined_master_slave,
             )?;
-            let sub = parts.subs[&key];
             // Base process construction (§3): NORMAL_GAP := 0 (MappingCheck), ACTIVE := false
             // on every condition of ContactSub (this makes ACTIVE defined, §5.3).
             if params.check_gap == CheckGap::MappingCheck {
@@ -180,7 +182,8 @@ impl ContactSearch {
                 paired: Vec::new(),
             });
         }
-        shared_conditions_check(model, &pairs)?;
+        // TO_ERASE is reset on every Contact condition after the clones (§4.1); csm never
+        // sets it, so nothing to reset.
         if setup
             .pairs
             .values()
@@ -350,24 +353,6 @@ fn emulate_python_state(model: &mut ModelPart, setup: &SearchSetup) {
     for (k, v) in &setup.process_info {
         pi.set_number(k, *v);
     }
-}
-
-/// Kratos clones conditions shared by several pairs (CheckContactModelParts, §4.1); csm does
-/// not yet.
-fn shared_conditions_check(model: &ModelPart, pairs: &[PairSearch]) -> Result<(), Error> {
-    let mut seen = BTreeSet::new();
-    for pair in pairs {
-        for c in model.part(pair.sub).conditions() {
-            if !seen.insert(*c) {
-                return Err(ErrorKind::NotImplemented(format!(
-                    "condition {} belongs to several contact pairs (Kratos clones it, §4.1)",
-                    model.conditions().ids()[c.index()]
-                ))
-                .into());
-            }
-        }
-    }
-    Ok(())
 }
 
 /// ClearMortarConditions (§4.3): ResetContactOperators — paired conditions that are not

@@ -318,3 +318,33 @@ fn a_degenerate_slave_is_an_error_naming_it() {
     );
     assert!(e.to_string().contains("condition 1:"), "{e}");
 }
+
+#[test]
+fn pairs_sharing_conditions_get_clones_with_their_own_maps() {
+    let mut model = plates(3, 0.01, false);
+    let n = model.conditions().len() as u32;
+    let text = format!(
+        r#"{{"contact_model_part": {{"0": ["Slave", "Master"], "1": ["Slave", "Master"]}},
+            "assume_master_slave": {{"0": ["Slave"], "1": ["Slave"]}}, "nodal_h": {H},
+            "search_parameters": {{"type_search": "in_radius", "check_gap": "no_check"}}}}"#
+    );
+    let s = parse_setup(&text, "test").unwrap();
+    let r = run(&mut model, &s);
+    assert_eq!(
+        model.conditions().len() as u32,
+        2 * n,
+        "every condition cloned once"
+    );
+    let (p0, p1) = (&r.pairs["0"], &r.pairs["1"]);
+    assert_eq!(p0.len(), p1.len());
+    assert!(p0.keys().all(|&id| id <= n) && p1.keys().all(|&id| id > n));
+    // The clone of condition k is T + (its rank in id order) = n + k here (dense ids).
+    for (slave, masters) in p0 {
+        let cloned: Vec<u32> = masters.iter().map(|m| m + n).collect();
+        assert_eq!(p1[&(slave + n)], cloned);
+    }
+    assert_eq!(
+        r.paired_conditions,
+        2 * r.pairs["0"].values().map(Vec::len).sum::<usize>()
+    );
+}
