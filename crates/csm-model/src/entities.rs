@@ -132,6 +132,51 @@ impl Entities {
         self.connectivity[start..self.offsets[i] as usize].reverse();
     }
 
+    /// Reorders the nodes of entity `i`: node `k` becomes the old node `permutation[k]`.
+    /// Returns false (and changes nothing) unless `permutation` is a permutation of
+    /// `0..n_nodes`.
+    pub fn permute_nodes(&mut self, i: usize, permutation: &[usize]) -> bool {
+        let start = if i == 0 {
+            0
+        } else {
+            self.offsets[i - 1] as usize
+        };
+        let end = self.offsets[i] as usize;
+        let n = end - start;
+        let mut seen = vec![false; n];
+        if permutation.len() != n
+            || permutation
+                .iter()
+                .any(|&k| k >= n || std::mem::replace(&mut seen[k], true))
+        {
+            return false;
+        }
+        let old: Vec<NodeIdx> = self.connectivity[start..end].to_vec();
+        for (k, &from) in permutation.iter().enumerate() {
+            self.connectivity[start + k] = old[from];
+        }
+        true
+    }
+
+    /// Renumbers every entity: entity `i` gets external id `ids[i]`. Returns false (and
+    /// changes nothing) when `ids` has the wrong length or repeats an id.
+    pub fn set_ids(&mut self, ids: &[u32]) -> bool {
+        if ids.len() != self.ids.len() {
+            return false;
+        }
+        let by_id: HashMap<u32, u32> = ids
+            .iter()
+            .enumerate()
+            .map(|(i, &id)| (id, i as u32))
+            .collect();
+        if by_id.len() != ids.len() {
+            return false;
+        }
+        self.ids.copy_from_slice(ids);
+        self.by_id = by_id;
+        true
+    }
+
     /// Properties id of entity `i`.
     pub fn properties(&self, i: usize) -> PropertiesId {
         self.properties[i]

@@ -2,12 +2,17 @@
 //! interface conditions, normal check, master/slave flags, broad phase over every
 //! `type_search`, OBB narrow phase, pair filters and pairing).
 //!
-//! **Status:** the setup layer and the first stages exist: [`parse_setup`] turns the
-//! `Parameters` of a Kratos contact process (or a whole `ProjectParameters.json`) into a typed
-//! [`SearchSetup`] with Kratos' defaults, aliases, fallbacks and dropped keys (DESIGN.md §2);
-//! [`assign_contact_flags`] / [`transfer_to_contact`] build the contact parts and flags
-//! (stage 0); [`master_slave_from_nodes`] is stage 3; [`dispatch`] chooses the search
-//! instance (stage 4). Stages 1, 2 and 5–8 are not implemented yet.
+//! **Status:** [`parse_setup`] turns the `Parameters` of a Kratos contact process (or a whole
+//! `ProjectParameters.json`) into a typed [`SearchSetup`] with Kratos' defaults, aliases,
+//! fallbacks and dropped keys (DESIGN.md §2). [`ContactSearch`] runs Kratos' life cycle over
+//! the stages: contact parts and flags (stage 0, [`assign_contact_flags`]), interface
+//! conditions ([`generate_interface_conditions`], stage 1), the normal check
+//! ([`normal_check`], stage 2), [`master_slave_from_nodes`] (stage 3), [`dispatch`] (stage 4),
+//! the life cycle with `database_step_update` (stage 5), the kd-tree broad phase (`in_radius`,
+//! `in_box`), the OBB and 18-DOP narrow phases (stages 6–7), the candidate filters and the
+//! No/Direct/MappingCheck pairing (stage 8), dynamic and inverted search. Not yet: the octree
+//! path, self-contact (roles not predefined) and the MappingCheck mortar pruning (the gap
+//! and activation issue).
 //!
 //! **Architecture Invariant:** `csm-search` depends on `csm-activation`, `csm-model`,
 //! `csm-trees` and `csm-geometry`, never on `csm-io` or the facade: it works on a

@@ -118,8 +118,12 @@ fn removing_conditions_from_a_part_keeps_them_in_the_ancestors() {
     let mut mp = square();
     let ids = [NodeId(10), NodeId(11), NodeId(12)];
     let t = GeometryKind::Triangle3D3;
-    let c0 = mp.add_condition(ConditionId(1), t, "", &ids, PropertiesId(0)).unwrap();
-    let c1 = mp.add_condition(ConditionId(2), t, "", &ids, PropertiesId(0)).unwrap();
+    let c0 = mp
+        .add_condition(ConditionId(1), t, "", &ids, PropertiesId(0))
+        .unwrap();
+    let c1 = mp
+        .add_condition(ConditionId(2), t, "", &ids, PropertiesId(0))
+        .unwrap();
     let sub = mp.create_part("Contact.Sub").unwrap();
     let leaf = mp.create_part("Contact.Sub.Leaf").unwrap();
     mp.add_conditions_to_part(leaf, &[c0, c1]);
@@ -128,4 +132,33 @@ fn removing_conditions_from_a_part_keeps_them_in_the_ancestors() {
     assert_eq!(mp.part(leaf).conditions(), &[c1]);
     let contact = mp.find_part("Contact").unwrap();
     assert_eq!(mp.part(contact).conditions(), &[c0, c1]);
+}
+
+#[test]
+fn renumbering_and_permuting_conditions() {
+    let mut mp = square();
+    let ids = [NodeId(10), NodeId(11), NodeId(12)];
+    let t = GeometryKind::Triangle3D3;
+    mp.add_condition(ConditionId(5), t, "", &ids, PropertiesId(0))
+        .unwrap();
+    mp.add_condition(ConditionId(9), t, "", &ids, PropertiesId(0))
+        .unwrap();
+    assert!(!mp.conditions_mut().set_ids(&[1, 1]), "repeated id");
+    assert!(!mp.conditions_mut().set_ids(&[1]), "wrong length");
+    assert!(mp.conditions_mut().set_ids(&[1, 2]));
+    assert_eq!(mp.conditions().index_of(2), Some(1));
+    assert_eq!(mp.conditions().index_of(9), None);
+    assert!(mp.conditions_mut().permute_nodes(0, &[0, 2, 1]));
+    assert_eq!(
+        mp.conditions().nodes(0),
+        &[NodeIdx(0), NodeIdx(2), NodeIdx(1)]
+    );
+    assert!(
+        !mp.conditions_mut().permute_nodes(0, &[0, 0, 1]),
+        "not a permutation"
+    );
+    assert!(
+        !mp.conditions_mut().permute_nodes(0, &[0, 1]),
+        "wrong length"
+    );
 }

@@ -24,7 +24,8 @@ use crate::setup::{
     CheckGap, Compatibility, ContactType, SearchParameters, SearchSetup, SearchTreeType,
 };
 use crate::stages::{
-    ContactParts, SearchInstance, assign_contact_flags, dispatch, transfer_to_contact,
+    ContactParts, InterfaceSettings, NormalCheckSettings, SearchInstance, assign_contact_flags,
+    dispatch, generate_interface_conditions, normal_check, transfer_to_contact,
 };
 
 /// The search of one pair key (one Kratos search process).
@@ -75,21 +76,47 @@ impl ContactSearch {
             )
             .into());
         }
-        let parts = assign_contact_flags(model, &setup)?;
-        for pair in setup.pairs.values() {
+        let mut parts = assign_contact_flags(model, &setup)?;
+        // With `cpp_search_parameters` the C++ search process is driven directly, as Kratos'
+        // C++ tests do: no Python layer, so no interface preprocessing and no normal check.
+        let python_path = !setup.cpp_search_parameters;
+        // Stage 1 for every user part (Kratos calls GenerateInterfacePart on each: it only
+        // checks the properties when the part has conditions, else generates them).
+        for (&key, pair) in setup.pairs.iter().filter(|_| python_path) {
             for path in &pair.parts {
                 let part = model.get_part(path).map_err(model_error)?;
-                if model.part(part).conditions().is_empty() {
-                    return Err(ErrorKind::NotImplemented(format!(
-                        "part `{path}` has nodes but no conditions: interface conditions from \
-                         element faces (stage 1) are not generated yet"
-                    ))
-                    .into());
+                let settings = InterfaceSettings {
+                    simplify_geometry: false,
+                    contact_property_id: pair.property_id,
+                    compatibility: setup.compatibility,
+                };
+                let report = generate_interface_conditions(model, part, &settings)?;
+                let renumbered = &report.renumbered_properties;
+                if let Some(props) = parts.properties.get_mut(&key)
+                    && let Some((_, new)) = renumbered.iter().find(|(old, _)| old == props)
+                {
+                    *props = *new;
+                }
+                if report.skipped_duplicates > 0 {
+                    warnings.push(format!(
+                        "part `{path}`: {} faces shared by two solids generated once (robust \
+                         mode; Kratos generates them twice, Q29)",
+                        report.skipped_duplicates
+                    ));
                 }
             }
         }
         transfer_to_contact(model, &setup, &parts)?;
         emulate_python_state(model, &setup);
+        // Stage 2 on the whole model (Python calls NormalCheckProcess on the main part).
+        let normal_settings = NormalCheckSettings {
+            length_proportion: setup.normal_check_proportion,
+            compatibility: setup.compatibility,
+            ..NormalCheckSettings::default()
+        };
+        if python_path {
+            normal_check(model, &normal_settings)?;
+        }
         match setup.nodal_h {
             Some(h) => {
                 if let Some(col) = model.nodal_data_mut().scalar_mut(ScalarVar::NodalH, 0) {
@@ -291,7 +318,7 @@ impl ContactSearch {
             let mut slaves = std::collections::BTreeMap::new();
             let mut nodes: BTreeSet<NodeIdx> = BTreeSet::new();
             for c in model.part(pair.sub).conditions() {
-                if model.conditions().flags()[c.index()].is(Flag::SLAVE) != !inverted {
+                if model.conditions().flags()[c.index()].is(Flag::SLAVE) == inverted {
                     continue;
                 }
                 let masters: Vec<u32> = model
@@ -449,8 +476,8 @@ fn update_mortar_conditions(
     let (mut n_slave, mut n_master) = (0, 0);
     for c in model.part(sub).conditions() {
         let f = model.conditions().flags()[c.index()];
-        n_slave += usize::from(f.is(Flag::SLAVE) == !inverted);
-        n_master += usize::from(f.is(Flag::MASTER) == !inverted);
+        n_slave += usize::from(f.is(Flag::SLAVE) != inverted);
+        n_master += usize::from(f.is(Flag::MASTER) != inverted);
     }
     if n_slave == 0 || n_master == 0 {
         return Err(ErrorKind::RejectedByKratos(format!(
@@ -462,10 +489,11 @@ fn update_mortar_conditions(
     }
     // 9. No/DirectCheck with a dynamic search: Kratos subtracts the increment although the
     // nodes were never moved (Q9); robust mode does not.
-    if let (false, Some(d)) = (moved, &delta) {
-        if compatibility == Compatibility::Kratos && p.check_gap != CheckGap::MappingCheck {
-            shift_nodes(model, &sub_nodes, d, -1.0);
-        }
+    if let (false, Some(d)) = (moved, &delta)
+        && compatibility == Compatibility::Kratos
+        && p.check_gap != CheckGap::MappingCheck
+    {
+        shift_nodes(model, &sub_nodes, d, -1.0);
     }
     if let (true, Some(d)) = (moved, &delta) {
         // MappingCheck restores the coordinates after the mapping (CheckPairing step c).
@@ -593,7 +621,7 @@ fn kdtree_search(
         .copied()
         .filter(|c| {
             let f = model.conditions().flags()[c.index()];
-            f.is_defined(Flag::ACTIVE) && f.is(Flag::SLAVE) == !inverted
+            f.is_defined(Flag::ACTIVE) && f.is(Flag::SLAVE) != inverted
         })
         .collect();
     let nodal_normals = model

@@ -1,2 +1,361 @@
-//! Stage 2: the normal check on solid elements (Kratos `NormalCheckProcess`, reference §14).
-//! Not implemented yet.
+//! Stage 2: the normal check on solid elements (Kratos `NormalCheckProcess::Execute`,
+//! reference §14), on the whole model:
+//!
+//! 1. unit normals of every condition and node ([`csm_model::compute_unit_normals`], Kratos'
+//!    serial normalisation);
+//! 2. the entities with MARKER defined are remembered; MARKER is reset (undefined) everywhere;
+//! 3. pass 1, per element in container order (non-solid elements are skipped and reported):
+//!    for **every** boundary face (Kratos' INTERFACE filter is ineffective, Q28),
+//!    `p = face.Center() + length_proportion · face.Length() · face.UnitNormal(ξ(centre))`; if
+//!    `element.IsInside(p, check_threshold)` the element and the face's nodes get MARKER;
+//! 4. every condition gets MARKER = all its nodes MARKER; marked elements and conditions are
+//!    inverted; normals recomputed; MARKER reset on nodes, elements and conditions;
+//! 5. pass 2, per solid element: every INTERFACE node gets MARKER when
+//!    `X + length_proportion · element.Length() · NORMAL(node)` is inside the element; conditions
+//!    with all nodes MARKER are inverted; MARKER reset on nodes and conditions; normals
+//!    recomputed;
+//! 6. the remembered entities get MARKER := **false**, whatever they had (Q28).
+//!
+//! Kratos inverts by reversing the node list (`std::reverse`). That flips lines, triangles and
+//! quadrilaterals, but it is an orientation-preserving renumbering of tetrahedra (Q41),
+//! hexahedra and prisms (a 180° turn), so Kratos leaves inverted 3D solids inverted; it also
+//! scrambles the corner/mid-node order of quadratic geometries.
+//!
+//! # Robust mode ([`Compatibility::Robust`])
+//! * Inversion uses an orientation-reversing renumbering that keeps each kind's numbering
+//!   valid ([`inversion_permutation`]): e.g. Tetrahedra3D4 `(0,2,1,3)`, Hexahedra3D8 bottom ↔
+//!   top, Line2D3 `(1,0,2)`.
+//! * MARKER is restored to the remembered values instead of false.
+
+use csm_geometry::math::{Point, Vector};
+use csm_geometry::{Geometry, GeometryKind};
+use csm_model::{
+    ConditionId, ElementId, EntityKind, Flag, ModelPart, NormalsMode, VectorVar,
+    compute_unit_normals,
+};
+
+use crate::error::{Error, ErrorKind};
+use crate::setup::Compatibility;
+
+/// Settings of [`normal_check`] (Kratos' `{"length_proportion": 0.1, "check_threshold": 5e-7}`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalCheckSettings {
+    /// Offset of the probe point, as a fraction of the face or element length.
+    pub length_proportion: f64,
+    /// Tolerance of the inside test in local coordinates.
+    pub check_threshold: f64,
+    /// Kratos' behaviour or the documented fixes (module docs).
+    pub compatibility: Compatibility,
+}
+
+impl Default for NormalCheckSettings {
+    fn default() -> NormalCheckSettings {
+        NormalCheckSettings {
+            length_proportion: 0.1,
+            check_threshold: 5e-7,
+            compatibility: Compatibility::Kratos,
+        }
+    }
+}
+
+/// What [`normal_check`] did.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct NormalCheckReport {
+    /// Non-solid (beam, shell, membrane) elements, assumed properly oriented.
+    pub slender_elements: Vec<ElementId>,
+    /// Elements inverted in pass 1 (a face normal pointed inside), in container order.
+    pub inverted_elements: Vec<ElementId>,
+    /// Conditions inverted in pass 1 (all their nodes on such a face).
+    pub inverted_conditions: Vec<ConditionId>,
+    /// Nodes whose normal pointed inside an element in pass 2, ascending id.
+    pub inward_nodes: Vec<u32>,
+    /// Conditions inverted in pass 2 (all their nodes had an inward normal).
+    pub inverted_conditions_by_nodes: Vec<ConditionId>,
+}
+
+/// Stage 2: checks and fixes the orientation of elements and conditions (Kratos
+/// `NormalCheckProcess`; module docs).
+///
+/// Errors: a degenerate face, element or condition (zero length/area/volume), or nodal
+/// normals that cancel out (Kratos fails there too, e.g. with "Zero norm normal in INTERFACE
+/// flagged node").
+pub fn normal_check(
+    model: &mut ModelPart,
+    settings: &NormalCheckSettings,
+) -> Result<NormalCheckReport, Error> {
+    let kratos = settings.compatibility == Compatibility::Kratos;
+    let lp = settings.length_proportion;
+    let tol = settings.check_threshold;
+    let mut report = NormalCheckReport::default();
+    compute_normals(model)?;
+
+    // Backup of MARKER, then reset.
+    let backup = MarkerBackup::take(model);
+    reset_marker(model, true, true, true);
+
+    // Pass 1: element faces.
+    let mut points: Vec<Point> = Vec::new();
+    let mut face_points: Vec<Point> = Vec::new();
+    for e in 0..model.elements().len() {
+        let kind = model.elements().kind(e);
+        if !kind.is_solid() {
+            report
+                .slender_elements
+                .push(ElementId(model.elements().ids()[e]));
+            continue;
+        }
+        let nodes = model.elements().nodes(e).to_vec();
+        model.gather_points(&nodes, &mut points);
+        let element = Geometry::new(kind, &points).map_err(|err| element_error(model, e, err))?;
+        let mut inverted = false;
+        for (face_kind, local) in kind.faces() {
+            face_points.clear();
+            face_points.extend(local.iter().map(|&l| points[l]));
+            let probe = face_probe(*face_kind, &face_points, lp)
+                .map_err(|err| element_error(model, e, err))?;
+            if element
+                .is_inside(&probe, tol)
+                .map_err(|err| element_error(model, e, err))?
+                .is_some()
+            {
+                inverted = true;
+                for &l in *local {
+                    model.nodes_mut().flags_mut()[nodes[l].index()].set(Flag::MARKER, true);
+                }
+            }
+        }
+        if inverted {
+            model.elements_mut().flags_mut()[e].set(Flag::MARKER, true);
+            report
+                .inverted_elements
+                .push(ElementId(model.elements().ids()[e]));
+        }
+    }
+    report.inverted_conditions = mark_conditions(model);
+    for e in 0..model.elements().len() {
+        if model.elements().flags()[e].is(Flag::MARKER) {
+            invert(model, EntityKind::Element, e, kratos);
+        }
+    }
+    invert_marked_conditions(model, kratos);
+    compute_normals(model)?;
+    reset_marker(model, true, true, true);
+
+    // Pass 2: nodal normals.
+    let normals: Vec<Vector> = model
+        .nodal_data()
+        .vector(VectorVar::Normal, 0)
+        .map(<[Vector]>::to_vec)
+        .unwrap_or_default();
+    let mut inward = vec![false; model.nodes().len()];
+    for e in 0..model.elements().len() {
+        let kind = model.elements().kind(e);
+        if !kind.is_solid() {
+            continue;
+        }
+        let nodes = model.elements().nodes(e).to_vec();
+        model.gather_points(&nodes, &mut points);
+        let element = Geometry::new(kind, &points).map_err(|err| element_error(model, e, err))?;
+        let length = element
+            .length()
+            .map_err(|err| element_error(model, e, err))?;
+        for (n, x) in nodes.iter().zip(&points) {
+            if !model.nodes().flags()[n.index()].is(Flag::INTERFACE) {
+                continue;
+            }
+            let normal = normals
+                .get(n.index())
+                .copied()
+                .unwrap_or_else(Vector::zeros);
+            let probe = x + normal * (lp * length);
+            if element
+                .is_inside(&probe, tol)
+                .map_err(|err| element_error(model, e, err))?
+                .is_some()
+            {
+                model.nodes_mut().flags_mut()[n.index()].set(Flag::MARKER, true);
+                inward[n.index()] = true;
+            }
+        }
+    }
+    report.inward_nodes = (0..inward.len())
+        .filter(|&i| inward[i])
+        .map(|i| model.nodes().ids()[i])
+        .collect();
+    report.inward_nodes.sort_unstable();
+    report.inverted_conditions_by_nodes = mark_conditions(model);
+    invert_marked_conditions(model, kratos);
+    reset_marker(model, true, false, true);
+    compute_normals(model)?;
+
+    backup.restore(model, kratos);
+    Ok(report)
+}
+
+/// `face.Center() + lp · face.Length() · face.UnitNormal(ξ(centre))`, in Kratos' order.
+fn face_probe(kind: GeometryKind, points: &[Point], lp: f64) -> Result<Point, csm_geometry::Error> {
+    let face = Geometry::new(kind, points)?;
+    let centre = face.center();
+    let local = face.point_local_coordinates(&centre)?;
+    let normal = face.unit_normal(&local)?;
+    let length = face.length()?;
+    Ok(centre + normal * (lp * length))
+}
+
+/// The renumbering that inverts a geometry of `kind` in robust mode: new node `i` is old node
+/// `perm[i]`. Orientation-reversing and valid for the kind's numbering (corners first, then
+/// mid-edge nodes in Kratos' edge order).
+pub fn inversion_permutation(kind: GeometryKind) -> &'static [usize] {
+    use GeometryKind as K;
+    match kind {
+        K::Line2D2 => &[1, 0],
+        K::Line2D3 => &[1, 0, 2],
+        K::Triangle3D3 | K::Triangle2D3 => &[2, 1, 0],
+        K::Triangle3D6 | K::Triangle2D6 => &[2, 1, 0, 4, 3, 5],
+        K::Quadrilateral3D4 | K::Quadrilateral2D4 => &[3, 2, 1, 0],
+        K::Quadrilateral3D8 | K::Quadrilateral2D8 => &[3, 2, 1, 0, 6, 5, 4, 7],
+        K::Quadrilateral3D9 | K::Quadrilateral2D9 => &[3, 2, 1, 0, 6, 5, 4, 7, 8],
+        K::Tetrahedra3D4 => &[0, 2, 1, 3],
+        K::Tetrahedra3D10 => &[0, 2, 1, 3, 6, 5, 4, 7, 9, 8],
+        K::Prism3D6 => &[3, 4, 5, 0, 1, 2],
+        K::Hexahedra3D8 => &[4, 5, 6, 7, 0, 1, 2, 3],
+        K::Hexahedra3D20 => &[
+            4, 5, 6, 7, 0, 1, 2, 3, 16, 17, 18, 19, 12, 13, 14, 15, 8, 9, 10, 11,
+        ],
+        K::Hexahedra3D27 => &[
+            4, 5, 6, 7, 0, 1, 2, 3, 16, 17, 18, 19, 12, 13, 14, 15, 8, 9, 10, 11, 25, 21, 22, 23,
+            24, 20, 26,
+        ],
+    }
+}
+
+fn invert(model: &mut ModelPart, entity: EntityKind, i: usize, kratos: bool) {
+    let kind = match entity {
+        EntityKind::Element => model.elements().kind(i),
+        _ => model.conditions().kind(i),
+    };
+    let entities = match entity {
+        EntityKind::Element => model.elements_mut(),
+        _ => model.conditions_mut(),
+    };
+    // `inversion_permutation` is a permutation of the kind's nodes (unit-tested), so
+    // `permute_nodes` applies it.
+    if kratos || !entities.permute_nodes(i, inversion_permutation(kind)) {
+        entities.reverse_nodes(i);
+    }
+}
+
+/// Every condition: MARKER := all its nodes MARKER. Returns the marked ones' ids.
+fn mark_conditions(model: &mut ModelPart) -> Vec<ConditionId> {
+    let mut marked = Vec::new();
+    for c in 0..model.conditions().len() {
+        let all = model
+            .conditions()
+            .nodes(c)
+            .iter()
+            .all(|n| model.nodes().flags()[n.index()].is(Flag::MARKER));
+        model.conditions_mut().flags_mut()[c].set(Flag::MARKER, all);
+        if all {
+            marked.push(ConditionId(model.conditions().ids()[c]));
+        }
+    }
+    marked
+}
+
+fn invert_marked_conditions(model: &mut ModelPart, kratos: bool) {
+    for c in 0..model.conditions().len() {
+        if model.conditions().flags()[c].is(Flag::MARKER) {
+            invert(model, EntityKind::Condition, c, kratos);
+        }
+    }
+}
+
+/// Kratos `VariableUtils().ResetFlag(MARKER, …)`: MARKER becomes undefined.
+fn reset_marker(model: &mut ModelPart, nodes: bool, elements: bool, conditions: bool) {
+    if nodes {
+        model
+            .nodes_mut()
+            .flags_mut()
+            .iter_mut()
+            .for_each(|f| f.reset(Flag::MARKER));
+    }
+    if elements {
+        model
+            .elements_mut()
+            .flags_mut()
+            .iter_mut()
+            .for_each(|f| f.reset(Flag::MARKER));
+    }
+    if conditions {
+        model
+            .conditions_mut()
+            .flags_mut()
+            .iter_mut()
+            .for_each(|f| f.reset(Flag::MARKER));
+    }
+}
+
+/// The MARKER values defined before the check, by dense index.
+struct MarkerBackup {
+    nodes: Vec<(usize, bool)>,
+    elements: Vec<(usize, bool)>,
+    conditions: Vec<(usize, bool)>,
+}
+
+impl MarkerBackup {
+    fn take(model: &ModelPart) -> MarkerBackup {
+        let defined = |flags: &[csm_model::Flags]| -> Vec<(usize, bool)> {
+            flags
+                .iter()
+                .enumerate()
+                .filter_map(|(i, f)| f.get(Flag::MARKER).map(|v| (i, v)))
+                .collect()
+        };
+        MarkerBackup {
+            nodes: defined(model.nodes().flags()),
+            elements: defined(model.elements().flags()),
+            conditions: defined(model.conditions().flags()),
+        }
+    }
+
+    /// Kratos sets MARKER false on every remembered entity (Q28); robust mode restores the
+    /// remembered value.
+    fn restore(&self, model: &mut ModelPart, kratos: bool) {
+        let value = |v: bool| v && !kratos;
+        for &(i, v) in &self.nodes {
+            model.nodes_mut().flags_mut()[i].set(Flag::MARKER, value(v));
+        }
+        for &(i, v) in &self.elements {
+            model.elements_mut().flags_mut()[i].set(Flag::MARKER, value(v));
+        }
+        for &(i, v) in &self.conditions {
+            model.conditions_mut().flags_mut()[i].set(Flag::MARKER, value(v));
+        }
+    }
+}
+
+fn compute_normals(model: &mut ModelPart) -> Result<(), Error> {
+    compute_unit_normals(model, None, NormalsMode::Kratos).map_err(|e| match e.kind() {
+        csm_model::ErrorKind::Geometry {
+            entity: EntityKind::Condition,
+            id,
+            source,
+        } => ErrorKind::Geometry {
+            condition: *id,
+            message: source.to_string(),
+        }
+        .into(),
+        _ => ErrorKind::Model(e.to_string()).into(),
+    })
+}
+
+fn element_error(model: &ModelPart, e: usize, err: csm_geometry::Error) -> Error {
+    ErrorKind::Model(format!(
+        "normal check: element {}: {err}",
+        model.elements().ids()[e]
+    ))
+    .into()
+}
+
+#[cfg(test)]
+mod tests;
