@@ -15,7 +15,11 @@ fn fixture_files() -> Vec<PathBuf> {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/search");
     let mut files = Vec::new();
     for scene in std::fs::read_dir(&root).into_iter().flatten().flatten() {
-        for f in std::fs::read_dir(scene.path()).into_iter().flatten().flatten() {
+        for f in std::fs::read_dir(scene.path())
+            .into_iter()
+            .flatten()
+            .flatten()
+        {
             if f.path().extension().is_some_and(|e| e == "json") {
                 files.push(f.path());
             }
@@ -63,11 +67,19 @@ fn check_gap(fixture: &Value) -> &'static str {
 #[test]
 fn pairs_match_kratos_on_every_fixture() {
     let files = fixture_files();
-    assert!(files.len() >= 40, "expected the search fixtures, found {}", files.len());
+    assert!(
+        files.len() >= 40,
+        "expected the search fixtures, found {}",
+        files.len()
+    );
     let mut failures = Vec::new();
     let mut summary = BTreeMap::<&str, (usize, usize)>::new();
     for file in &files {
-        let name = file.strip_prefix(env!("CARGO_MANIFEST_DIR")).unwrap_or(file).display().to_string();
+        let name = file
+            .strip_prefix(env!("CARGO_MANIFEST_DIR"))
+            .unwrap_or(file)
+            .display()
+            .to_string();
         let fixture: Value =
             serde_json::from_str(&std::fs::read_to_string(file).unwrap()).expect("fixture JSON");
         let gap = check_gap(&fixture);
@@ -77,7 +89,9 @@ fn pairs_match_kratos_on_every_fixture() {
         if let Some(kratos_error) = fixture.get("error") {
             match ours {
                 Err(_) => entry.1 += 1,
-                Ok(_) => failures.push(format!("{name}: Kratos fails ({kratos_error}), csm does not")),
+                Ok(_) => failures.push(format!(
+                    "{name}: Kratos fails ({kratos_error}), csm does not"
+                )),
             }
             continue;
         }
@@ -99,7 +113,9 @@ fn pairs_match_kratos_on_every_fixture() {
                     })
                 });
                 if !subset {
-                    failures.push(format!("{name}: a Kratos pair is missing from csm's candidates"));
+                    failures.push(format!(
+                        "{name}: a Kratos pair is missing from csm's candidates"
+                    ));
                 }
                 if !warned {
                     failures.push(format!("{name}: no MappingCheck warning"));
@@ -130,7 +146,12 @@ fn pairs_match_kratos_on_every_fixture() {
     for (gap, (n, ok)) in &summary {
         eprintln!("{gap}: {ok} of {n} fixtures conform");
     }
-    assert!(failures.is_empty(), "{} non-conforming:\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} non-conforming:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }
 
 /// csm's robust 18-DOP search loses none of the pairs that Kratos' most complete search keeps
@@ -140,12 +161,17 @@ fn pairs_match_kratos_on_every_fixture() {
 #[test]
 fn robust_kdop_keeps_every_pair_of_the_kratos_radius_search() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scenes = ["sphere_on_plate_tri", "sphere_on_plate_mixed", "stacked_blocks", "cylinder_on_block_2d"];
+    let scenes = [
+        "sphere_on_plate_tri",
+        "sphere_on_plate_mixed",
+        "stacked_blocks",
+        "cylinder_on_block_2d",
+    ];
     for scene in scenes {
         let fixture: Value = serde_json::from_str(
-            &std::fs::read_to_string(
-                root.join(format!("tests/fixtures/search/{scene}/in_radius__mapping_check__simple.json")),
-            )
+            &std::fs::read_to_string(root.join(format!(
+                "tests/fixtures/search/{scene}/in_radius__mapping_check__simple.json"
+            )))
             .unwrap(),
         )
         .unwrap();
@@ -164,6 +190,11 @@ fn robust_kdop_keeps_every_pair_of_the_kratos_radius_search() {
             }
         }
         assert!(total > 0, "{scene}");
-        assert_eq!(kept, total, "{scene}: robust kdop_18 lost {} of {total} pairs", total - kept);
+        assert_eq!(
+            kept,
+            total,
+            "{scene}: robust kdop_18 lost {} of {total} pairs",
+            total - kept
+        );
     }
 }
