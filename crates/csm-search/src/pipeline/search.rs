@@ -25,7 +25,8 @@ use crate::setup::{
 };
 use crate::stages::{
     ContactParts, InterfaceSettings, NormalCheckSettings, SearchInstance, assign_contact_flags,
-    dispatch, generate_interface_conditions, normal_check, transfer_to_contact,
+    dispatch, generate_interface_conditions, master_slave_from_nodes, normal_check,
+    transfer_to_contact,
 };
 
 /// The search of one pair key (one Kratos search process).
@@ -70,43 +71,47 @@ impl ContactSearch {
     pub fn initialize(model: &mut ModelPart, setup: &SearchSetup) -> Result<ContactSearch, Error> {
         let mut setup = setup.clone();
         let mut warnings = setup.warnings.clone();
-        if model.find_part("Contact").is_some() {
-            return Err(ErrorKind::NotImplemented(
-                "the mesh already has a `Contact` part (Kratos' restart path, stage 3)".to_owned(),
-            )
-            .into());
-        }
-        let mut parts = assign_contact_flags(model, &setup)?;
+        // A `Contact` part in the mesh is reused (Kratos' path without preprocessing): no
+        // stage 0 or 1, and the condition flags come from the nodal ones (stage 3,
+        // MasterSlaveProcess, after the normal check).
+        let existing = model.find_part("Contact");
         // With `cpp_search_parameters` the C++ search process is driven directly, as Kratos'
         // C++ tests do: no Python layer, so no interface preprocessing and no normal check.
         let python_path = !setup.cpp_search_parameters;
-        // Stage 1 for every user part (Kratos calls GenerateInterfacePart on each: it only
-        // checks the properties when the part has conditions, else generates them).
-        for (&key, pair) in setup.pairs.iter().filter(|_| python_path) {
-            for path in &pair.parts {
-                let part = model.get_part(path).map_err(model_error)?;
-                let settings = InterfaceSettings {
-                    simplify_geometry: false,
-                    contact_property_id: pair.property_id,
-                    compatibility: setup.compatibility,
-                };
-                let report = generate_interface_conditions(model, part, &settings)?;
-                let renumbered = &report.renumbered_properties;
-                if let Some(props) = parts.properties.get_mut(&key)
-                    && let Some((_, new)) = renumbered.iter().find(|(old, _)| old == props)
-                {
-                    *props = *new;
+        let mut parts = match existing {
+            Some(contact) => existing_contact_parts(model, contact, &setup)?,
+            None => {
+                let mut parts = assign_contact_flags(model, &setup)?;
+                // Stage 1 for every user part (Kratos calls GenerateInterfacePart on each: it only
+                // checks the properties when the part has conditions, else generates them).
+                for (&key, pair) in setup.pairs.iter().filter(|_| python_path) {
+                    for path in &pair.parts {
+                        let part = model.get_part(path).map_err(model_error)?;
+                        let settings = InterfaceSettings {
+                            simplify_geometry: false,
+                            contact_property_id: pair.property_id,
+                            compatibility: setup.compatibility,
+                        };
+                        let report = generate_interface_conditions(model, part, &settings)?;
+                        let renumbered = &report.renumbered_properties;
+                        if let Some(props) = parts.properties.get_mut(&key)
+                            && let Some((_, new)) = renumbered.iter().find(|(old, _)| old == props)
+                        {
+                            *props = *new;
+                        }
+                        if report.skipped_duplicates > 0 {
+                            warnings.push(format!(
+                                "part `{path}`: {} faces shared by two solids generated once (robust \
+                                 mode; Kratos generates them twice, Q29)",
+                                report.skipped_duplicates
+                            ));
+                        }
+                    }
                 }
-                if report.skipped_duplicates > 0 {
-                    warnings.push(format!(
-                        "part `{path}`: {} faces shared by two solids generated once (robust \
-                         mode; Kratos generates them twice, Q29)",
-                        report.skipped_duplicates
-                    ));
-                }
+                transfer_to_contact(model, &setup, &parts)?;
+                parts
             }
-        }
-        transfer_to_contact(model, &setup, &parts)?;
+        };
         emulate_python_state(model, &setup);
         // Stage 2 on the whole model (Python calls NormalCheckProcess on the main part).
         let normal_settings = NormalCheckSettings {
@@ -116,6 +121,9 @@ impl ContactSearch {
         };
         if python_path {
             normal_check(model, &normal_settings)?;
+        }
+        if existing.is_some() {
+            master_slave_from_nodes(model, parts.contact);
         }
         match setup.nodal_h {
             Some(h) => {
@@ -347,6 +355,39 @@ impl ContactSearch {
         }
         result
     }
+}
+
+/// The parts of a pre-existing `Contact`: every pair needs its `Contact.ContactSub<key>`, as
+/// Kratos' search processes do (they fail without it).
+fn existing_contact_parts(
+    model: &mut ModelPart,
+    contact: PartIdx,
+    setup: &SearchSetup,
+) -> Result<ContactParts, Error> {
+    let mut subs = std::collections::BTreeMap::new();
+    let mut properties = std::collections::BTreeMap::new();
+    for (&key, pair) in &setup.pairs {
+        let path = format!("Contact.ContactSub{key}");
+        let sub = model.find_part(&path).ok_or_else(|| {
+            Error::from(ErrorKind::RejectedByKratos(format!(
+                "the mesh has a `Contact` part but no `{path}`: Kratos reuses an existing \
+                 `Contact` and its search process fails without the pair's sub part"
+            )))
+        })?;
+        subs.insert(key, sub);
+        let id = if pair.property_id != 0 {
+            pair.property_id
+        } else {
+            100 + key
+        };
+        model.ensure_properties(csm_model::PropertiesId(id));
+        properties.insert(key, csm_model::PropertiesId(id));
+    }
+    Ok(ContactParts {
+        contact,
+        subs,
+        properties,
+    })
 }
 
 /// The nodal variables and process info of the Python path (DESIGN.md §2), then the setup's

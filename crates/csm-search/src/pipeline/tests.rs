@@ -374,3 +374,36 @@ fn pairs_sharing_conditions_get_clones_with_their_own_maps() {
         2 * r.pairs["0"].values().map(Vec::len).sum::<usize>()
     );
 }
+
+#[test]
+fn an_existing_contact_part_is_reused_with_flags_from_the_nodes() {
+    let s = setup(
+        r#"{"type_search": "in_radius", "check_gap": "no_check"}"#,
+        "",
+    );
+    let reference = run(&mut plates(3, 0.01, false), &s);
+    // The same scene with `Contact` already there, as after a restart: the nodal flags decide
+    // which conditions are slave (stage 3).
+    let mut model = plates(3, 0.01, false);
+    let contact = model.create_part("Contact").unwrap();
+    assert!(
+        ContactSearch::initialize(&mut model.clone(), &s).is_err(),
+        "no ContactSub0"
+    );
+    let sub = model.create_part("Contact.ContactSub0").unwrap();
+    for (name, slave) in [("Slave", true), ("Master", false)] {
+        let part = model.find_part(name).unwrap();
+        let nodes = model.part(part).nodes().to_vec();
+        let conditions = model.part(part).conditions().to_vec();
+        for n in &nodes {
+            let f = &mut model.nodes_mut().flags_mut()[n.index()];
+            f.set(csm_model::Flag::INTERFACE, true);
+            f.set(csm_model::Flag::SLAVE, slave);
+        }
+        model.add_nodes_to_part(sub, &nodes);
+        model.add_conditions_to_part(sub, &conditions);
+    }
+    assert!(model.part(contact).conditions().len() > 0);
+    let r = run(&mut model, &s);
+    assert_eq!(r.pairs, reference.pairs);
+}
