@@ -78,7 +78,7 @@ impl ContactSearch {
         // With `cpp_search_parameters` the C++ search process is driven directly, as Kratos'
         // C++ tests do: no Python layer, so no interface preprocessing and no normal check.
         let python_path = !setup.cpp_search_parameters;
-        let mut parts = match existing {
+        let parts = match existing {
             Some(contact) => existing_contact_parts(model, contact, &setup)?,
             None => {
                 let mut parts = assign_contact_flags(model, &setup)?;

@@ -403,7 +403,7 @@ fn an_existing_contact_part_is_reused_with_flags_from_the_nodes() {
         model.add_nodes_to_part(sub, &nodes);
         model.add_conditions_to_part(sub, &conditions);
     }
-    assert!(model.part(contact).conditions().len() > 0);
+    assert!(!model.part(contact).conditions().is_empty());
     let r = run(&mut model, &s);
     assert_eq!(r.pairs, reference.pairs);
 }
