@@ -1,0 +1,81 @@
+//! Criterion benchmarks of the search's building blocks and of one whole search step
+//! (`cargo bench --bench search`). Speed targets are checked here, never in tests.
+
+use std::hint::black_box;
+use std::path::Path;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use csm::geometry::math::{Point, Vector};
+use csm::geometry::{Obb, ObbIntersection, SatMode};
+use csm::trees::KdTree;
+
+/// A deterministic cloud of `n` points in the unit cube (xorshift).
+fn cloud(n: usize) -> Vec<(u32, Point)> {
+    let mut state = 0x2545_F491_4F6C_DD1Du64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    (0..n as u32)
+        .map(|i| (i, Point::new(next(), next(), next())))
+        .collect()
+}
+
+fn kdtree(c: &mut Criterion) {
+    let points = cloud(100_000);
+    c.bench_function("kdtree build 1e5", |b| {
+        b.iter(|| KdTree::new(black_box(&points), 4).unwrap())
+    });
+    let tree = KdTree::new(&points, 4).unwrap();
+    let mut out = Vec::new();
+    c.bench_function("kdtree in_radius 1e3 queries", |b| {
+        b.iter(|| {
+            for (_, q) in points.iter().take(1000) {
+                tree.in_radius(q, 0.01, 1000, &mut out).unwrap();
+                black_box(out.len());
+            }
+        })
+    });
+}
+
+fn sat(c: &mut Criterion) {
+    let a = Obb::new(
+        Point::new(0.0, 0.0, 0.0),
+        [Vector::x(), Vector::y(), Vector::z()],
+        [1.0, 0.5, 0.1],
+    );
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let b = Obb::new(
+        Point::new(1.2, 0.3, 0.05),
+        [Vector::new(s, s, 0.0), Vector::new(-s, s, 0.0), Vector::z()],
+        [0.8, 0.4, 0.1],
+    );
+    for mode in [SatMode::Kratos, SatMode::Robust] {
+        c.bench_function(&format!("sat obb-obb {mode:?}"), |bench| {
+            bench.iter(|| black_box(&a).intersects(black_box(&b), ObbIntersection::Sat, mode))
+        });
+    }
+}
+
+fn search_step(c: &mut Criterion) {
+    let mesh =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/scenes/sphere_on_plate_tri.mdpa");
+    let model = csm::io::read_mesh(&mesh).unwrap();
+    let setup = csm::cli::load_setup(
+        r#"{"contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
+            "assume_master_slave": {"0": ["Parts_Slave"]}}"#,
+        "bench",
+    )
+    .unwrap();
+    c.bench_function("search step sphere_on_plate_tri (736 slave faces)", |b| {
+        b.iter(|| {
+            let mut m = model.clone();
+            csm::cli::run_search(&mut m, &setup, 0.0).unwrap()
+        })
+    });
+}
+
+criterion_group!(benches, kdtree, sat, search_step);
+criterion_main!(benches);
