@@ -202,6 +202,13 @@ impl Entities {
         self.by_id.get(&id).map(|&i| i as usize)
     }
 
+    /// Dense indices in Kratos' container order: ascending external id.
+    pub fn indices_by_id(&self) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..self.ids.len()).collect();
+        order.sort_by_key(|&i| self.ids[i]);
+        order
+    }
+
     /// The largest external id, or 0 when empty (Kratos `GetMaximumConditionsIds`).
     pub fn max_id(&self) -> u32 {
         self.ids.iter().copied().max().unwrap_or(0)

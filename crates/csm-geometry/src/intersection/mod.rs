@@ -22,7 +22,9 @@
 mod direct_obb_obb;
 mod mode;
 mod sat_obb_obb;
+mod segment_aabb;
 mod segment_segment;
+mod triangle_aabb;
 mod triangle_triangle;
 
 #[cfg(test)]
@@ -31,5 +33,7 @@ mod tests;
 pub use direct_obb_obb::{direct_obb_obb, direct_obb2_obb2};
 pub use mode::{CROSS_AXIS_GUARD, ObbIntersection, SatMode, TOUCH_TOLERANCE};
 pub use sat_obb_obb::{sat_obb_obb, sat_obb2_obb2};
+pub use segment_aabb::segment_aabb_intersect;
 pub use segment_segment::segment_segment_intersect;
+pub use triangle_aabb::triangle_aabb_intersect;
 pub use triangle_triangle::triangle_triangle_intersect;

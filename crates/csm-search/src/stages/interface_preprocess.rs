@@ -143,7 +143,7 @@ pub fn generate_interface_conditions(
     }
     let mut seen: HashSet<Vec<NodeIdx>> = HashSet::new();
     let mut fixed_created = false;
-    for e in 0..model.elements().len() {
+    for e in model.elements().indices_by_id() {
         let properties = match &copies {
             Some(copies) => {
                 let own = model.elements().properties(e);
@@ -534,7 +534,7 @@ fn check_and_create_properties(
         v.sort_unstable_by_key(|n| model.nodes().ids()[n.index()]);
         v == key
     };
-    let owner = (0..model.elements().len()).find(|&e| {
+    let owner = model.elements().indices_by_id().into_iter().find(|&e| {
         let kind = model.elements().kind(e);
         let nodes = model.elements().nodes(e);
         if kind.is_solid() {

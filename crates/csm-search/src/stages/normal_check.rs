@@ -96,7 +96,7 @@ pub fn normal_check(
     // Pass 1: element faces.
     let mut points: Vec<Point> = Vec::new();
     let mut face_points: Vec<Point> = Vec::new();
-    for e in 0..model.elements().len() {
+    for e in model.elements().indices_by_id() {
         let kind = model.elements().kind(e);
         if !kind.is_solid() {
             report
@@ -132,7 +132,7 @@ pub fn normal_check(
         }
     }
     report.inverted_conditions = mark_conditions(model);
-    for e in 0..model.elements().len() {
+    for e in model.elements().indices_by_id() {
         if model.elements().flags()[e].is(Flag::MARKER) {
             invert(model, EntityKind::Element, e, kratos);
         }
@@ -148,7 +148,7 @@ pub fn normal_check(
         .map(<[Vector]>::to_vec)
         .unwrap_or_default();
     let mut inward = vec![false; model.nodes().len()];
-    for e in 0..model.elements().len() {
+    for e in model.elements().indices_by_id() {
         let kind = model.elements().kind(e);
         if !kind.is_solid() {
             continue;
