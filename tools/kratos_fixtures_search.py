@@ -43,6 +43,15 @@ DISTANCE_THRESHOLD = 1, DOMAIN_SIZE not set). csm gets the same through the SETU
 header note (only slave nodes 1 and 2 ACTIVE, NORMAL_GAP ~ -0.0011945660046527) are asserted:
 they calibrate this harness.
 
+Kratos test meshes (scenes kratos_<short name>, meshes ../shared/data/kratos-tests/<file>.mdpa,
+relative to the repository root; see kratos_meshes()): their contact parts list nodes only, so
+ExecuteInitialize generates the interface conditions (InterfacePreprocessCondition, reference §13).
+Python path, setups in_radius/in_radius_with_obb x no/direct/mapping_check (check_gap always
+written) x simple/advanced. Each scene also gets interface.json (`csm-interface/1`): the conditions
+of Contact/ContactSub0 after ExecuteInitialize (id, nodes in order, SLAVE/MASTER true/false/null),
+checked to be the same in every run of the mesh; where ExecuteInitialize raised, those generated
+before it, with the error.
+
 Also writes tests/fixtures/search/README.md (scene sizes, summary table, total Kratos time).
 
 Usage (repository root): OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive python tools/kratos_fixtures_search.py
@@ -181,9 +190,14 @@ def parse_index_maps(text):
 def kratos_error(e):
     text = str(e)
     lines = [l.strip() for l in text.splitlines() if l.strip()]
-    for l in lines:
+    for i, l in enumerate(lines):
         if l.startswith("Error:"):
-            return l[len("Error:"):].strip()
+            message = l[len("Error:"):].strip()
+            if "parallel region" in message:  # add the first thread's own message
+                inner = next((m for m in lines[i + 1:] if "caught exception:" in m), None)
+                if inner is not None:
+                    message += " " + inner.replace("caught exception: Error:", "caught exception:")
+            return message
     return lines[0] if lines else text
 
 
@@ -232,6 +246,22 @@ class HarnessALMContactProcess(alm_contact_process.ALMContactProcess):
         self.search_utility_list[key] = cls(self.main_model_part, params, self._get_properties_pair(key))
 
 
+def flag_value(entity, flag):
+    """true/false, or None where the flag was never set on the entity."""
+    return bool(entity.Is(flag)) if entity.IsDefined(flag) else None
+
+
+def interface_conditions(model_part):
+    """The conditions of Contact/ContactSub0 (for node-only contact parts: the ones
+    InterfacePreprocessCondition generated, after NormalCheckProcess may have reversed them), by id."""
+    contact = model_part.GetSubModelPart("Contact")
+    if not contact.HasSubModelPart("ContactSub0"):
+        return []
+    sub = contact.GetSubModelPart("ContactSub0")
+    return [{"id": c.Id, "nodes": [n.Id for n in c.GetNodes()], "slave": flag_value(c, KM.SLAVE),
+             "master": flag_value(c, KM.MASTER)} for c in sorted(sub.Conditions, key=lambda c: c.Id)]
+
+
 def read_structure(mesh, variables, name="Structure"):
     model = KM.Model()
     mp = model.CreateModelPart(name, 2)
@@ -263,10 +293,16 @@ def run_python(mesh, dim, setup):
         t0 = time.perf_counter()
         process.ExecuteInitialize()
         t1 = time.perf_counter()
+        info["interface"] = interface_conditions(mp)
+        # Q33: NODAL_H stays DBL_MAX on nodes in no element (FindNodalHProcess on the root).
+        info["nodal_h_dbl_max"] = sum(1 for n in mp.Nodes if n.GetSolutionStepValue(KM.NODAL_H) > 1.0e300)
         process.ExecuteInitializeSolutionStep()
         t2 = time.perf_counter()
     except RuntimeError as e:
         result["error"] = kratos_error(e)
+        if "interface" not in info:  # raised in ExecuteInitialize: the conditions generated so far
+            info["interface"] = interface_conditions(mp) if mp.HasSubModelPart("Contact") else []
+            info["interface_error"] = result["error"]
         return result, info
     info["class"] = process.concrete_class_name
     search = process.search_utility_list["0"]
@@ -299,6 +335,8 @@ def run_python(mesh, dim, setup):
         info["crosscheck"] = "equal" if ok else "DIFFERENT (%d maps, %d paired)" % (len(map_pairs), len(paired))
     if unknown:
         info["crosscheck"] += "; %d non-slave conditions with a map (not in pairs)" % len(unknown)
+    if info["nodal_h_dbl_max"]:
+        info["crosscheck"] += "; NODAL_H = DBL_MAX on %d nodes" % info["nodal_h_dbl_max"]
     info["crosscheck_ok"] = ok
     return result, info
 
@@ -420,6 +458,88 @@ def python_setups(scene):
                 yield name, setup
 
 
+# Kratos' own test meshes (/work/shared/data/kratos-tests, SOURCES.md there) whose contact parts list
+# nodes only, so ALMContactProcess.ExecuteInitialize generates the interface conditions itself
+# (InterfacePreprocessCondition, reference §13). Paths are relative to the repository root.
+KRATOS_TESTS_DIR = "../shared/data/kratos-tests"
+KRATOS_TYPES = ["in_radius", "in_radius_with_obb"]
+
+
+def triquad_base_setup():
+    """The contact process Parameters of the mesh's own ProjectParameters file."""
+    path = os.path.join(ROOT, KRATOS_TESTS_DIR, "3D_contact_simplest_patch_matching_triquad_test_parameters.json")
+    with open(path) as f:
+        project = json.load(f)
+    (process,) = [p for p in project["processes"]["contact_process_list"] if p["process_name"] == "ALMContactProcess"]
+    return process["Parameters"]
+
+
+def kratos_meshes():
+    """(short name, mdpa file, dimension, base setup) of every Kratos test mesh.
+    triquad: the setup of its ProjectParameters (slave = the tetrahedron block). patch_nonmatching:
+    its ProjectParameters is an older format Kratos 10.4.4 rejects; the punch is the slave body, as
+    in the test. double_curvature_*: as test_dynamic_search.py (reference §20.2): the interface part
+    is DISPLACEMENT_Displacement_Auto2 (all nodes; the membrane elements become the conditions), the
+    slave shell Parts_Parts_Auto1. (Listing DISPLACEMENT_Displacement_Auto1 as well makes Kratos
+    generate the conditions of the elements inside it a second time: 8 duplicates on the triangles,
+    all 1849 on the quadrilaterals, where Auto1 holds every node.)"""
+    return [
+        ("triquad", "3D_contact_simplest_patch_matching_triquad_test.mdpa", 3, triquad_base_setup()),
+        ("patch_nonmatching", "3D_contact_patch_nonmatching_test.mdpa", 3,
+         {"model_part_name": "Structure", "contact_type": "Frictionless",
+          "contact_model_part": {"0": ["Contact_Part"]},
+          "assume_master_slave": {"0": ["Parts_Part_punch"]}}),
+        ("double_curvature_triangle", "test_double_curvature_integration_triangle.mdpa", 3,
+         {"model_part_name": "Structure", "contact_type": "Frictionless",
+          "contact_model_part": {"0": ["DISPLACEMENT_Displacement_Auto2"]},
+          "assume_master_slave": {"0": ["Parts_Parts_Auto1"]}}),
+        ("double_curvature_quadrilateral", "test_double_curvature_integration_quadrilateral.mdpa", 3,
+         {"model_part_name": "Structure", "contact_type": "Frictionless",
+          "contact_model_part": {"0": ["DISPLACEMENT_Displacement_Auto2"]},
+          "assume_master_slave": {"0": ["Parts_Parts_Auto1"]}}),
+    ]
+
+
+def kratos_mesh_setups(base):
+    for ts in KRATOS_TYPES:
+        for check in CHECKS:
+            for simple in (False, True):
+                sp = {"type_search": ts, "check_gap": check, "simple_search": simple}
+                setup = dict(base)
+                setup["search_parameters"] = sp
+                yield "%s__%s__%s" % (ts, check, "simple" if simple else "advanced"), setup
+
+
+def interface_fixture(mesh, setup, interface, runs, error=None):
+    """interface.json: the conditions of Contact/ContactSub0 after ExecuteInitialize, i.e. those
+    InterfacePreprocessCondition generated, after NormalCheckProcess (the same in every run of the
+    mesh; `setup` is the first run's). Where ExecuteInitialize raised, `error` is its message and
+    the conditions are those generated before it raised."""
+    obj = {"format": "csm-interface/1", "mesh": mesh, "setup": setup, "kratos": VERSION}
+    if error is not None:
+        obj["error"] = error
+    obj.update({"slave_conditions": sum(1 for c in interface if c["slave"]),
+                "master_conditions": sum(1 for c in interface if c["master"]),
+                "same_in_runs": runs, "conditions": interface})
+    return obj
+
+
+def dumps_interface(obj):
+    out = ["{"]
+    items = list(obj.items())
+    for i, (k, v) in enumerate(items):
+        comma = "," if i + 1 < len(items) else ""
+        if k == "conditions":
+            out.append(" %s:[" % json.dumps(k))
+            for j, c in enumerate(v):
+                out.append("  %s%s" % (json.dumps(c, separators=(",", ":")), "," if j + 1 < len(v) else ""))
+            out.append(" ]%s" % comma)
+        else:
+            out.append(" %s:%s%s" % (json.dumps(k), json.dumps(v, separators=(",", ":")), comma))
+    out.append("}")
+    return "\n".join(out) + "\n"
+
+
 def cpp_setups():
     for name, params in CPP_TESTS.items():
         yield name, {"model_part_name": "Structure",
@@ -479,6 +599,12 @@ def count_faces(mesh):
             mp.NumberOfNodes(), mp.NumberOfElements())
 
 
+def count_elements(mesh):
+    """(None, None, nodes, elements) of a Kratos test mesh (the faces are generated by Kratos)."""
+    model, mp = read_structure(mesh, [KM.DISPLACEMENT])
+    return (None, None, mp.NumberOfNodes(), mp.NumberOfElements())
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--out", default=os.path.join(ROOT, "tests", "fixtures", "search"))
@@ -487,23 +613,34 @@ def main():
     args = ap.parse_args()
     KM.Logger.GetDefaultOutput().SetSeverity(KM.Logger.Severity.WARNING)
     only = set(s for s in args.scenes.split(",") if s)
-    jobs = [(scene, dim, python_setups(scene)) for scene, dim in PYTHON_SCENES]
-    jobs.append(("plane_cylinder_cpp", 3, cpp_setups()))
+    jobs = [(scene, "%s/%s.mdpa" % (SCENES_DIR, scene), dim, python_setups(scene)) for scene, dim in PYTHON_SCENES]
+    jobs.append(("plane_cylinder_cpp", "%s/plane_cylinder_cpp.mdpa" % SCENES_DIR, 3, cpp_setups()))
+    for short, mdpa, dim, base in kratos_meshes():
+        jobs.append(("kratos_" + short, "%s/%s" % (KRATOS_TESTS_DIR, mdpa), dim, kratos_mesh_setups(base)))
     rows = []
     sizes = {}
+    interfaces = {}
     start = time.perf_counter()
     failures = []
-    for scene, dim, setups in jobs:
+    for scene, mesh, dim, setups in jobs:
         if only and scene not in only:
             continue
-        mesh = "%s/%s.mdpa" % (SCENES_DIR, scene)
-        sizes[scene] = count_faces(mesh)
+        generated = scene.startswith("kratos_")
+        sizes[scene] = count_elements(mesh) if generated else count_faces(mesh)
         os.makedirs(os.path.join(args.out, scene), exist_ok=True)
         for name, setup in setups:
             if scene == "plane_cylinder_cpp":
                 result, info = run_cpp(mesh, name)
             else:
                 result, info = run_python(mesh, dim, setup)
+            if generated and "interface" in info:
+                if scene not in interfaces:
+                    interfaces[scene] = interface_fixture(mesh, setup, info["interface"], [name],
+                                                          info.get("interface_error"))
+                elif interfaces[scene]["conditions"] == info["interface"]:
+                    interfaces[scene]["same_in_runs"].append(name)
+                else:
+                    failures.append((scene, name, "generated interface differs from the first run's"))
             if not args.quick:
                 with open(os.path.join(args.out, scene, name + ".json"), "w", newline="\n") as f:
                     f.write(dumps(fixture(mesh, setup, result)))
@@ -516,18 +653,27 @@ def main():
                        sum(1 for v in result["nodes"].values() if v["active"]),
                        result["paired_conditions"], result["timings_s"]["search"], info.get("crosscheck", ""))
                 if not info.get("crosscheck_ok", True):
-                    failures.append((scene, name, info))
+                    failures.append((scene, name, {k: v for k, v in info.items() if k != "interface"}))
             rows.append(row)
             print(fmt_row(row), flush=True)
             if args.quick:
                 break
     total = time.perf_counter() - start
+    for scene, obj in interfaces.items():
+        nn, ne = sizes[scene][2:]
+        sizes[scene] = (obj["slave_conditions"], obj["master_conditions"], nn, ne)
+        if not args.quick:
+            with open(os.path.join(args.out, scene, "interface.json"), "w", newline="\n") as f:
+                f.write(dumps_interface(obj))
+        print("%s: %d generated interface conditions (%d slave, %d master), same in %d runs" % (
+            scene, len(obj["conditions"]), obj["slave_conditions"], obj["master_conditions"],
+            len(obj["same_in_runs"])))
     if not args.quick and not only:
         write_readme(args.out, sizes, rows, total)
     print("total %.1f s" % total)
     for f in failures:
         print("CROSS-CHECK FAILED:", f, file=sys.stderr)
-    return 1 if any(f[1].startswith("cpp_") for f in failures) else 0
+    return 1 if any(f[1].startswith("cpp_") or isinstance(f[2], str) for f in failures) else 0
 
 
 def fmt_row(r):
@@ -542,10 +688,43 @@ def write_readme(out, sizes, rows, total):
     lines = ["# Kratos search fixtures (generated by tools/kratos_fixtures_search.py — do not edit)", "",
              "Kratos %s, one thread. One JSON per scene and setup, format `csm-result/1` plus `mesh`, "
              "`setup` (the SETUP.json given to csm, exactly what Kratos got), `kratos`, and `error` "
-             "where Kratos raised. Scenes: `tests/data/scenes/` (tools/gen_scenes.py)." % VERSION, "",
+             "where Kratos raised. Scenes: `tests/data/scenes/` (tools/gen_scenes.py), and the `kratos_*` "
+             "scenes: Kratos' own test meshes in `../shared/data/kratos-tests/` (SOURCES.md there; "
+             "`mesh` is relative to the repository root)." % VERSION, "",
              "## Scenes", "", "| scene | nodes | elements | slave faces | master faces |", "|---|---|---|---|---|"]
     for scene, (ns, nm, nn, ne) in sizes.items():
-        lines.append("| %s | %d | %d | %d | %d |" % (scene, nn, ne, ns, nm))
+        if ns is None:  # a Kratos mesh whose run raised before generating anything
+            lines.append("| %s | %d | %d | | |" % (scene, nn, ne))
+        else:
+            lines.append("| %s | %d | %d | %d | %d |" % (scene, nn, ne, ns, nm))
+    lines += ["", "## Kratos test meshes (`kratos_*`)", "",
+              "Their contact parts list nodes only, so ALMContactProcess.ExecuteInitialize generates the "
+              "interface conditions itself (InterfacePreprocessCondition; reference §13); the slave/master "
+              "faces above are the generated conditions. Setups: type_search {in_radius, "
+              "in_radius_with_obb} x check_gap {no_check, direct_check, mapping_check} (always written) x "
+              "simple_search, on top of:", "",
+              "* `kratos_triquad` (`3D_contact_simplest_patch_matching_triquad_test.mdpa`): the "
+              "ALMContactProcess Parameters of its own ProjectParameters file (slave Parts_Parts_Auto2, "
+              "the tetrahedron block; `<3,3>` slave / `<4>` master, class suffix 3D3N4N).",
+              "* `kratos_patch_nonmatching` (`3D_contact_patch_nonmatching_test.mdpa`; its ProjectParameters "
+              "is an older format Kratos 10.4.4 rejects): contact part Contact_Part, slave Parts_Part_punch. "
+              "Kratos 10.4.4 raises in NormalCheckProcess (CalculateUnitNormals over all root conditions): "
+              "the mesh's 64 SurfaceLoadCondition3D4N are self-crossing quadrilaterals whose normal at the "
+              "centre is zero. Every fixture carries that error; interface.json holds the 8 conditions "
+              "generated before it.",
+              "* `kratos_double_curvature_{triangle,quadrilateral}` (MembraneElement3D3N / 3D4N; the "
+              "element geometries become the conditions): as test_dynamic_search.py (reference §20.2): "
+              "contact part DISPLACEMENT_Displacement_Auto2 (all nodes), slave Parts_Parts_Auto1; no "
+              "dynamic search. Listing DISPLACEMENT_Displacement_Auto1 as well would make Kratos generate "
+              "the elements inside it a second time (duplicate conditions). NODAL_H is finite on every "
+              "node (every node is in an element; Q33 does not apply).", "",
+              "`kratos_*/interface.json` (format `csm-interface/1`): the conditions of "
+              "Contact/ContactSub0 after ExecuteInitialize (after NormalCheckProcess), by id: "
+              "`{\"id\", \"nodes\" (in order), \"slave\", \"master\"}` with flags true/false/null "
+              "(null = never set), plus the counts, the first run's `setup`, `same_in_runs` (the runs that "
+              "generated exactly the same list: all of them) and `error` where ExecuteInitialize raised. "
+              "Properties without YOUNG_MODULUS make ALMVariablesCalculationProcess warn (it uses 0; the "
+              "search does not use it)."]
     lines += ["", "Total Kratos time (all runs, including reading and initialisation): %.1f s "
               "(timings vary from run to run; everything else is reproducible)." % total, "",
               "plane_cylinder_cpp calibration (reference §20.1): every INDEX_MAP as in the C++ test, only "
