@@ -201,3 +201,49 @@ fn robust_kdop_keeps_every_pair_of_the_kratos_radius_search() {
         );
     }
 }
+
+/// The interface conditions the search generates from element faces (stage 1, inside
+/// `ContactSearch::initialize`) equal Kratos' on its own test meshes: ids, node order and the
+/// tri-state SLAVE/MASTER flags. Where Kratos fails later in its ExecuteInitialize (the
+/// normal check of the patch test), csm fails too.
+#[test]
+fn generated_interface_conditions_match_kratos() {
+    use csm::model::Flag;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut checked = 0;
+    for dir in std::fs::read_dir(root.join("tests/fixtures/search")).unwrap().flatten() {
+        let path = dir.path().join("interface.json");
+        let Ok(text) = std::fs::read_to_string(&path) else { continue };
+        let fixture: Value = serde_json::from_str(&text).unwrap();
+        let mut model = csm::io::read_mesh(&root.join(fixture["mesh"].as_str().unwrap())).unwrap();
+        let setup = csm::cli::load_setup(&fixture["setup"].to_string(), "fixture").unwrap();
+        let result = csm::search::ContactSearch::initialize(&mut model, &setup);
+        if fixture.get("error").is_some() {
+            assert!(result.is_err(), "{}: Kratos fails, csm does not", path.display());
+            checked += 1;
+            continue;
+        }
+        result.unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let sub = model.find_part("Contact.ContactSub0").unwrap();
+        let conditions = model.conditions();
+        let mut ours: Vec<Value> = model
+            .part(sub)
+            .conditions()
+            .iter()
+            .map(|c| {
+                let i = c.index();
+                let nodes: Vec<u32> =
+                    conditions.nodes(i).iter().map(|n| model.nodes().ids()[n.index()]).collect();
+                let f = conditions.flags()[i];
+                serde_json::json!({
+                    "id": conditions.ids()[i], "nodes": nodes,
+                    "slave": f.get(Flag::SLAVE), "master": f.get(Flag::MASTER),
+                })
+            })
+            .collect();
+        ours.sort_by_key(|v| v["id"].as_u64());
+        assert_eq!(&Value::Array(ours), &fixture["conditions"], "{}", path.display());
+        checked += 1;
+    }
+    assert!(checked >= 4, "expected the interface fixtures of the Kratos meshes, found {checked}");
+}
