@@ -13,7 +13,7 @@ use csm_trees::KdTree;
 use rayon::prelude::*;
 
 use super::candidates::{Bv, Candidate, QueryContext, slave_candidates};
-use super::octree::{OctreeContext, search_octree};
+use super::octree::{OctreeContext, search_octree_report};
 pub use super::pairing::PairedCondition;
 use super::pairing::{PairingContext, apply_candidates};
 use super::result::{NodeResult, SearchResult};
@@ -163,7 +163,9 @@ impl ContactSearch {
         for (&key, pair) in &setup.pairs {
             let params = pair.search.clone();
             match params.type_search {
-                SearchTreeType::OctreeWithObb if params.inverted_search => {
+                SearchTreeType::OctreeWithObb
+                    if params.inverted_search && setup.compatibility == Compatibility::Kratos =>
+                {
                     return Err(ErrorKind::RejectedByKratos(
                         "the octree search does not support inverted_search (Kratos errors too)"
                             .to_owned(),
@@ -281,7 +283,12 @@ impl ContactSearch {
                 let compatibility = self.setup.compatibility;
                 let pair = &mut self.pairs[i];
                 clear_mortar_conditions(model, pair);
-                update_mortar_conditions(model, pair, compatibility)?;
+                let step_warnings = update_mortar_conditions(model, pair, compatibility)?;
+                for w in step_warnings {
+                    if !self.warnings.contains(&w) {
+                        self.warnings.push(w);
+                    }
+                }
             }
             self.reset_marker(model);
         } else {
@@ -456,11 +463,13 @@ fn clear_mortar_conditions(model: &mut ModelPart, pair: &mut PairSearch) {
 }
 
 /// UpdateMortarConditions (§5) for the kd-tree path.
+/// Returns the warnings of the step (e.g. faces the octree cannot test).
 fn update_mortar_conditions(
     model: &mut ModelPart,
     pair: &mut PairSearch,
     compatibility: Compatibility,
-) -> Result<(), Error> {
+) -> Result<Vec<String>, Error> {
+    let mut run_warnings = Vec::new();
     let p = pair.params.clone();
     let inverted = p.inverted_search;
     let sub = pair.sub;
@@ -501,7 +510,28 @@ fn update_mortar_conditions(
             compatibility,
             domain_size,
         };
-        search_octree(model, &ocx, &mut created)?;
+        let report = if inverted {
+            // Robust mode: the octree searches from the other side by swapping the roles of
+            // the ContactSub conditions (slave side = not SLAVE, master side = not MASTER),
+            // then restores the flags.
+            let saved = swap_roles(model, sub);
+            let direct = SearchParameters {
+                inverted_search: false,
+                ..p.clone()
+            };
+            let ocx = OctreeContext {
+                params: &direct,
+                ..ocx
+            };
+            let report = search_octree_report(model, &ocx, &mut created);
+            for (c, flags) in saved {
+                model.conditions_mut().flags_mut()[c.index()] = flags;
+            }
+            report?
+        } else {
+            search_octree_report(model, &ocx, &mut created)?
+        };
+        run_warnings.extend(report.warnings);
     } else {
         kdtree_search(
             model,
@@ -541,7 +571,22 @@ fn update_mortar_conditions(
         shift_nodes(model, &sub_nodes, d, -1.0);
         compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
     }
-    Ok(())
+    Ok(run_warnings)
+}
+
+/// Swaps the roles of the conditions of `sub` for an inverted octree search: SLAVE := not
+/// SLAVE, MASTER := not MASTER (undefined counts as not set). Returns the original flags.
+fn swap_roles(model: &mut ModelPart, sub: PartIdx) -> Vec<(ConditionIdx, csm_model::Flags)> {
+    let conditions = model.part(sub).conditions().to_vec();
+    let mut saved = Vec::with_capacity(conditions.len());
+    for c in conditions {
+        let flags = &mut model.conditions_mut().flags_mut()[c.index()];
+        saved.push((c, *flags));
+        let (slave, master) = (flags.is(Flag::SLAVE), flags.is(Flag::MASTER));
+        flags.set(Flag::SLAVE, !slave);
+        flags.set(Flag::MASTER, !master);
+    }
+    saved
 }
 
 /// Gives the created pairs their ids — after the largest condition id, in slave id order then

@@ -407,3 +407,42 @@ fn an_existing_contact_part_is_reused_with_flags_from_the_nodes() {
     let r = run(&mut model, &s);
     assert_eq!(r.pairs, reference.pairs);
 }
+
+/// Robust mode runs the octree from the master side too (Kratos refuses): with NoCheck the
+/// pairs are exactly the transpose of the direct search's, as the robust octree finds every
+/// pair whose OBBs intersect and that test is symmetric.
+#[test]
+fn robust_inverted_octree_is_the_transpose_of_the_direct_one() {
+    let octree = |inverted: bool, compat: &str| {
+        let mut model = plates(4, 0.01, false);
+        let s = setup(
+            "{}",
+            &format!(
+                r#", "compatibility": "{compat}", "cpp_search_parameters": {{
+                    "type_search": "OctreeWithOBB", "check_gap": "NoCheck",
+                    "inverted_search": {inverted}, "normal_orientation_threshold": 0.1,
+                    "condition_name": "ALMFrictionlessMortarContact"}}"#
+            ),
+        );
+        ContactSearch::initialize(&mut model, &s).and_then(|mut search| search.step(&mut model))
+    };
+    assert!(
+        octree(true, "kratos").is_err(),
+        "Kratos refuses an inverted octree search"
+    );
+    let direct = octree(false, "robust").unwrap();
+    let inverted = octree(true, "robust").unwrap();
+    let mut transpose: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+    for (s, masters) in pairs(&direct) {
+        for m in masters {
+            transpose.entry(*m).or_default().push(*s);
+        }
+    }
+    let found: BTreeMap<u32, Vec<u32>> = pairs(&inverted)
+        .iter()
+        .filter(|(_, v)| !v.is_empty())
+        .map(|(k, v)| (*k, v.clone()))
+        .collect();
+    assert!(!found.is_empty());
+    assert_eq!(found, transpose);
+}
