@@ -78,15 +78,6 @@ pub(crate) struct OctreeReport {
     pub n_leaves: usize,
 }
 
-/// SearchUsingOcTree: fills the slaves' INDEX_MAPs (MappingCheck) or pushes the created
-/// (slave, master) pairs (No/DirectCheck).
-pub(crate) fn search_octree(
-    model: &mut ModelPart,
-    cx: &OctreeContext<'_>,
-    created: &mut Vec<(ConditionIdx, ConditionIdx)>,
-) -> Result<(), Error> {
-    search_octree_report(model, cx, created).map(|_| ())
-}
 
 fn geometry_error(model: &ModelPart, c: ConditionIdx, message: String) -> Error {
     ErrorKind::Geometry {
