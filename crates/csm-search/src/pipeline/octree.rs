@@ -269,7 +269,8 @@ impl Search<'_> {
     }
 }
 
-/// [`search_octree`], returning what it saw.
+/// SearchUsingOcTree (§8): fills the slaves' INDEX_MAPs (MappingCheck) or pushes the created
+/// (slave, master) pairs (No/DirectCheck); returns what it saw (warnings, root box, bbf).
 pub(crate) fn search_octree_report(
     model: &mut ModelPart,
     cx: &OctreeContext<'_>,
