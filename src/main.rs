@@ -1,9 +1,11 @@
 //! The `csm` command-line tool. See `csm --help` and `docs/ARCHITECTURE.md`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Instant;
 
 use clap::{Parser, Subcommand};
+use csm::cli::{Progress, RunOptions, logger};
 
 #[derive(Debug, Parser)]
 #[command(name = "csm", version, about = "Finite-element contact search")]
@@ -14,6 +16,27 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Build the embedded demo scene (a sphere pressed onto a plate), search it, print a
+    /// summary and write RESULT.json and demo.vtu.
+    Demo {
+        /// About how many contact faces (plate and sphere together).
+        #[arg(long, default_value_t = csm::cli::DEFAULT_FACES)]
+        faces: usize,
+        /// The folder to write RESULT.json and demo.vtu into (created if missing).
+        #[arg(
+            short = 'o',
+            long = "output",
+            value_name = "DIR",
+            default_value = "csm-demo"
+        )]
+        output: PathBuf,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Print nothing but errors.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Print the parts of a mesh (full paths) with node/element/condition counts and geometry types.
     Info {
         /// The mesh: a Kratos `.mdpa` or a Gmsh `.msh` (2.2 or 4.1, ASCII or binary).
@@ -36,6 +59,10 @@ enum Command {
         /// Where to write RESULT.json (default: standard output).
         #[arg(short = 'o', long = "output")]
         output: Option<PathBuf>,
+        /// Also write the mesh, the contact flags and the pairs (as lines between the
+        /// condition centres) as a VTK file for ParaView.
+        #[arg(long, value_name = "OUT.vtu")]
+        vtk: Option<PathBuf>,
         /// Worker threads (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
@@ -47,6 +74,7 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    logger::init_from_env();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
@@ -79,16 +107,29 @@ fn run(cli: Cli) -> Result<(), String> {
             }
             Ok(())
         }
-        Command::Search { mesh, setup, output, threads, quiet } => {
-            if let Some(n) = threads {
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(n.max(1))
-                    .build_global()
-                    .map_err(|e| format!("cannot start {n} threads: {e}"))?;
-            }
-            let start = std::time::Instant::now();
-            let mut model = csm::io::read_mesh(&mesh).map_err(|e| e.to_string())?;
+        Command::Search {
+            mesh,
+            setup,
+            output,
+            vtk,
+            threads,
+            quiet,
+        } => {
+            start_threads(threads)?;
+            let start = Instant::now();
+            let progress = Progress::start("reading", csm::cli::progress_wanted(quiet));
+            let model = csm::io::read_mesh(&mesh);
+            progress.finish();
+            let mut model = model.map_err(|e| e.to_string())?;
             let read = start.elapsed().as_secs_f64();
+            logger::info(format_args!(
+                "read {}: {read:.3} s; {} nodes, {} elements, {} conditions, {} parts",
+                mesh.display(),
+                model.nodes().len(),
+                model.elements().len(),
+                model.conditions().len(),
+                model.parts().len()
+            ));
             let setup = match &setup {
                 Some(path) => {
                     let text = std::fs::read_to_string(path)
@@ -97,13 +138,18 @@ fn run(cli: Cli) -> Result<(), String> {
                 }
                 None => csm::cli::default_setup(&model)?,
             };
-            let (result, timings) = csm::cli::run_search(&mut model, &setup, read)?;
-            let json = serde_json::to_string_pretty(&result.to_json(&timings.entries()))
-                .map_err(|e| format!("cannot format JSON: {e}"))?;
+            let options = RunOptions {
+                progress: csm::cli::progress_wanted(quiet),
+            };
+            let (result, timings) = csm::cli::run_search_with(&mut model, &setup, read, options)?;
+            let json = result_json(&result, &timings)?;
             match &output {
-                Some(path) => std::fs::write(path, json + "\n")
-                    .map_err(|e| format!("{}: cannot write: {e}", path.display()))?,
-                None => println!("{json}"),
+                Some(path) => write(path, json)?,
+                None => print!("{json}"),
+            }
+            if let Some(path) = &vtk {
+                csm::cli::write_search_vtu(&model, &result, path)?;
+                logger::info(format_args!("wrote {}", path.display()));
             }
             if !quiet {
                 eprintln!(
@@ -122,5 +168,73 @@ fn run(cli: Cli) -> Result<(), String> {
             }
             Ok(())
         }
+        Command::Demo {
+            faces,
+            output,
+            threads,
+            quiet,
+        } => {
+            start_threads(threads)?;
+            let start = Instant::now();
+            let progress = Progress::start("building the scene", csm::cli::progress_wanted(quiet));
+            let scene = csm::cli::demo_scene(faces);
+            progress.finish();
+            let mut scene = scene?;
+            let read = start.elapsed().as_secs_f64();
+            logger::info(format_args!(
+                "built the demo scene: {read:.3} s; {} nodes, {} elements, {} slave and {} \
+                 master faces",
+                scene.model.nodes().len(),
+                scene.model.elements().len(),
+                scene.n_slave_faces,
+                scene.n_master_faces
+            ));
+            let setup = csm::cli::default_setup(&scene.model)?;
+            let options = RunOptions {
+                progress: csm::cli::progress_wanted(quiet),
+            };
+            let (result, timings) =
+                csm::cli::run_search_with(&mut scene.model, &setup, read, options)?;
+            std::fs::create_dir_all(&output)
+                .map_err(|e| format!("{}: cannot create the folder: {e}", output.display()))?;
+            let json_path = output.join("RESULT.json");
+            write(&json_path, result_json(&result, &timings)?)?;
+            let vtu_path = output.join("demo.vtu");
+            csm::cli::write_search_vtu(&scene.model, &result, &vtu_path)?;
+            if !quiet {
+                print!("{}", csm::cli::demo_summary(&scene, &result, &timings));
+                println!(
+                    "wrote {} and {} (open it in ParaView)",
+                    json_path.display(),
+                    vtu_path.display()
+                );
+            }
+            Ok(())
+        }
     }
+}
+
+/// Sizes rayon's global pool (`--threads`); all cores when `None`.
+fn start_threads(threads: Option<usize>) -> Result<(), String> {
+    if let Some(n) = threads {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n.max(1))
+            .build_global()
+            .map_err(|e| format!("cannot start {n} threads: {e}"))?;
+    }
+    Ok(())
+}
+
+/// RESULT.json text, with a final newline.
+fn result_json(
+    result: &csm::search::SearchResult,
+    timings: &csm::cli::Timings,
+) -> Result<String, String> {
+    let json = serde_json::to_string_pretty(&result.to_json(&timings.entries()))
+        .map_err(|e| format!("cannot format JSON: {e}"))?;
+    Ok(json + "\n")
+}
+
+fn write(path: &Path, text: String) -> Result<(), String> {
+    std::fs::write(path, text).map_err(|e| format!("{}: cannot write: {e}", path.display()))
 }

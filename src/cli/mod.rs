@@ -1,8 +1,17 @@
 //! The commands of the `csm` binary, as library functions over explicit data so that tests
 //! can call them without a process.
 
+mod demo;
 mod info;
+pub mod logger;
+mod progress;
 mod search;
+#[cfg(feature = "io")]
+mod vtk;
 
+pub use demo::{DEFAULT_FACES, DemoScene, MAX_FACES, demo_scene, demo_summary};
 pub use info::{MeshInfo, PartInfo, mesh_info};
-pub use search::{Timings, default_setup, load_setup, run_search};
+pub use progress::{Progress, progress_wanted};
+pub use search::{RunOptions, Timings, default_setup, load_setup, run_search, run_search_with};
+#[cfg(feature = "io")]
+pub use vtk::{search_vtu, write_search_vtu};

@@ -5,6 +5,9 @@ use std::time::Instant;
 use csm_model::ModelPart;
 use csm_search::{ContactSearch, SearchResult, SearchSetup, parse_setup};
 
+use crate::cli::logger;
+use crate::cli::progress::Progress;
+
 /// Wall times of the phases of a run, in seconds (RESULT.json `timings_s`).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Timings {
@@ -34,8 +37,11 @@ impl Timings {
 /// default parameters.
 pub fn default_setup(model: &ModelPart) -> Result<SearchSetup, String> {
     let find = |name: &str| {
-        let found: Vec<&str> =
-            model.part_paths().into_iter().filter(|p| p.eq_ignore_ascii_case(name)).collect();
+        let found: Vec<&str> = model
+            .part_paths()
+            .into_iter()
+            .filter(|p| p.eq_ignore_ascii_case(name))
+            .collect();
         match found.as_slice() {
             [one] => Ok((*one).to_owned()),
             [] => Err(format!(
@@ -43,7 +49,10 @@ pub fn default_setup(model: &ModelPart) -> Result<SearchSetup, String> {
                  --setup",
                 model.part_paths().join(", ")
             )),
-            _ => Err(format!("several parts are named `{name}` (any case): {}", found.join(", "))),
+            _ => Err(format!(
+                "several parts are named `{name}` (any case): {}",
+                found.join(", ")
+            )),
         }
     };
     let (slave, master) = (find("slave")?, find("master")?);
@@ -60,18 +69,62 @@ pub fn load_setup(text: &str, file: &str) -> Result<SearchSetup, String> {
     parse_setup(text, file).map_err(|e| e.to_string())
 }
 
+/// How [`run_search_with`] reports while it runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct RunOptions {
+    /// Draw a progress line on standard error for phases longer than [`Progress::DELAY`]
+    /// (see [`progress_wanted`](crate::cli::progress_wanted)).
+    pub progress: bool,
+}
+
 /// Runs initialize + one search step on `model`; `read` is the time the mesh took to read.
 pub fn run_search(
     model: &mut ModelPart,
     setup: &SearchSetup,
     read: f64,
 ) -> Result<(SearchResult, Timings), String> {
+    run_search_with(model, setup, read, RunOptions::default())
+}
+
+/// [`run_search`] with a progress line and the phases logged at `info` (`RUST_LOG`).
+pub fn run_search_with(
+    model: &mut ModelPart,
+    setup: &SearchSetup,
+    read: f64,
+    options: RunOptions,
+) -> Result<(SearchResult, Timings), String> {
+    logger::debug(format_args!(
+        "setup: pairs {:?}, compatibility {:?}, {} rayon threads",
+        setup.pairs.keys().collect::<Vec<_>>(),
+        setup.compatibility,
+        rayon::current_num_threads()
+    ));
     let start = Instant::now();
-    let mut search = ContactSearch::initialize(model, setup).map_err(|e| e.to_string())?;
+    let progress = Progress::start("initializing", options.progress);
+    let search = ContactSearch::initialize(model, setup);
+    progress.finish();
+    let mut search = search.map_err(|e| e.to_string())?;
     let initialize = start.elapsed().as_secs_f64();
+    logger::info(format_args!(
+        "initialize: {initialize:.3} s ({} nodes, {} conditions after the interface generation)",
+        model.nodes().len(),
+        model.conditions().len()
+    ));
     let start = Instant::now();
-    let result = search.step(model).map_err(|e| e.to_string())?;
+    let progress = Progress::start("searching", options.progress);
+    let result = search.step(model);
+    progress.finish();
+    let result = result.map_err(|e| e.to_string())?;
     let search_time = start.elapsed().as_secs_f64();
+    logger::info(format_args!(
+        "search: {search_time:.3} s; {} slave conditions, {} pairs, {} paired conditions, {} \
+         active nodes, {} warnings",
+        result.pairs.values().map(|m| m.len()).sum::<usize>(),
+        result.n_pairs(),
+        result.paired_conditions,
+        result.nodes.values().filter(|n| n.active).count(),
+        result.warnings.len()
+    ));
     let timings = Timings {
         read,
         initialize,

@@ -211,15 +211,24 @@ fn generated_interface_conditions_match_kratos() {
     use csm::model::Flag;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut checked = 0;
-    for dir in std::fs::read_dir(root.join("tests/fixtures/search")).unwrap().flatten() {
+    for dir in std::fs::read_dir(root.join("tests/fixtures/search"))
+        .unwrap()
+        .flatten()
+    {
         let path = dir.path().join("interface.json");
-        let Ok(text) = std::fs::read_to_string(&path) else { continue };
+        let Ok(text) = std::fs::read_to_string(&path) else {
+            continue;
+        };
         let fixture: Value = serde_json::from_str(&text).unwrap();
         let mut model = csm::io::read_mesh(&root.join(fixture["mesh"].as_str().unwrap())).unwrap();
         let setup = csm::cli::load_setup(&fixture["setup"].to_string(), "fixture").unwrap();
         let result = csm::search::ContactSearch::initialize(&mut model, &setup);
         if fixture.get("error").is_some() {
-            assert!(result.is_err(), "{}: Kratos fails, csm does not", path.display());
+            assert!(
+                result.is_err(),
+                "{}: Kratos fails, csm does not",
+                path.display()
+            );
             checked += 1;
             continue;
         }
@@ -232,8 +241,11 @@ fn generated_interface_conditions_match_kratos() {
             .iter()
             .map(|c| {
                 let i = c.index();
-                let nodes: Vec<u32> =
-                    conditions.nodes(i).iter().map(|n| model.nodes().ids()[n.index()]).collect();
+                let nodes: Vec<u32> = conditions
+                    .nodes(i)
+                    .iter()
+                    .map(|n| model.nodes().ids()[n.index()])
+                    .collect();
                 let f = conditions.flags()[i];
                 serde_json::json!({
                     "id": conditions.ids()[i], "nodes": nodes,
@@ -242,8 +254,16 @@ fn generated_interface_conditions_match_kratos() {
             })
             .collect();
         ours.sort_by_key(|v| v["id"].as_u64());
-        assert_eq!(&Value::Array(ours), &fixture["conditions"], "{}", path.display());
+        assert_eq!(
+            &Value::Array(ours),
+            &fixture["conditions"],
+            "{}",
+            path.display()
+        );
         checked += 1;
     }
-    assert!(checked >= 4, "expected the interface fixtures of the Kratos meshes, found {checked}");
+    assert!(
+        checked >= 4,
+        "expected the interface fixtures of the Kratos meshes, found {checked}"
+    );
 }

@@ -1,6 +1,8 @@
 //! Workspace-level integration tests: the `csm` binary as a user runs it.
 
+mod cli_demo;
 mod cli_info;
+mod cli_search;
 mod kratos_conformance;
 mod kratos_search;
 

@@ -7,7 +7,7 @@ use csm_geometry::GeometryKind;
 use csm_geometry::math::{Point, Vector};
 
 use crate::error::{EntityKind, Error, ErrorKind};
-use crate::parts::{SubModelPart, insert_sorted};
+use crate::parts::{SubModelPart, merge_sorted};
 use crate::{
     ConditionId, ConditionIdx, ElementId, ElementIdx, Entities, IndexMap, NodalData, NodeId,
     NodeIdx, Nodes, PartIdx, ProcessInfo, Properties, PropertiesId,
@@ -321,9 +321,7 @@ impl ModelPart {
         let mut p = Some(part);
         while let Some(idx) = p {
             let sp = &mut self.parts[idx.index()];
-            for &n in nodes {
-                insert_sorted(&mut sp.nodes, n);
-            }
+            merge_sorted(&mut sp.nodes, nodes);
             p = sp.parent;
         }
     }
@@ -334,9 +332,7 @@ impl ModelPart {
         let mut p = Some(part);
         while let Some(idx) = p {
             let sp = &mut self.parts[idx.index()];
-            for &e in elements {
-                insert_sorted(&mut sp.elements, e);
-            }
+            merge_sorted(&mut sp.elements, elements);
             p = sp.parent;
         }
     }
@@ -346,9 +342,7 @@ impl ModelPart {
         let mut p = Some(part);
         while let Some(idx) = p {
             let sp = &mut self.parts[idx.index()];
-            for &c in conditions {
-                insert_sorted(&mut sp.conditions, c);
-            }
+            merge_sorted(&mut sp.conditions, conditions);
             p = sp.parent;
         }
     }

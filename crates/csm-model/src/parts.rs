@@ -53,15 +53,18 @@ impl SubModelPart {
     }
 }
 
-/// Inserts `x` into the sorted, duplicate-free `v`; cheap when `x` comes in ascending order.
-pub(crate) fn insert_sorted<T: Ord + Copy>(v: &mut Vec<T>, x: T) {
-    match v.last() {
-        None => v.push(x),
-        Some(last) if *last < x => v.push(x),
-        Some(_) => {
-            if let Err(pos) = v.binary_search(&x) {
-                v.insert(pos, x);
-            }
-        }
+/// Merges `items` into the sorted, duplicate-free `v`: appended when they come in ascending
+/// order after `v`'s last item (the common case), else appended and re-sorted — O(n log n)
+/// for a batch, never one insertion per item.
+pub(crate) fn merge_sorted<T: Ord + Copy>(v: &mut Vec<T>, items: &[T]) {
+    let ascending_after = items.windows(2).all(|w| w[0] < w[1])
+        && match (v.last(), items.first()) {
+            (Some(last), Some(first)) => last < first,
+            _ => true,
+        };
+    v.extend_from_slice(items);
+    if !ascending_after {
+        v.sort_unstable();
+        v.dedup();
     }
 }

@@ -3,7 +3,10 @@
 //! Kratos and VTK agree on lines (3, quadratic edge 21), triangles (5, 22), quadrilaterals
 //! (9, 23, biquadratic 28), tetrahedra (10, 24) and the linear hexahedron (12). They differ:
 //! - wedge (13): Kratos' triangle 0-1-2 faces the triangle 3-4-5 (right-hand rule), VTK's
-//!   points away from it: VTK gets nodes 0, 2, 1, 3, 5, 4;
+//!   points away from it: VTK gets nodes 0, 2, 1, 3, 5, 4. This follows VTK's documentation
+//!   and its face definitions (ParaView's extracted surfaces then have outward normals); VTK
+//!   9.7's volume measures (Cell Size, Mesh Quality) disagree with both and report such
+//!   wedges with a negative volume — a known VTK inconsistency, not an inverted mesh;
 //! - quadratic hexahedron (25): Kratos' mid nodes are bottom edges 8-11, vertical edges
 //!   12-15, top edges 16-19; VTK's bottom, top, vertical;
 //! - triquadratic hexahedron (29): as 25, then VTK's face centres are x-, x+, y-, y+, z-, z+

@@ -1,15 +1,19 @@
 //! The VTU writer: a model part as a VTK XML UnstructuredGrid, ASCII, diff-friendly.
 //!
-//! Points are the nodes in dense order (current coordinates). Cells are the elements, then
-//! the conditions, then the extra line cells, each in dense order. Built-in arrays: point
-//! data `node_id`; cell data `entity_id` (the file id; the index of the line for line cells)
-//! and `entity_kind` (0 element, 1 condition, 2 line cell). Floats are written in Rust's
+//! Points are the nodes in dense order (current coordinates), then the extra points (e.g.
+//! condition centres) in the order given. Cells are the elements, then the conditions, then
+//! the line cells, each in dense order. Built-in arrays: point data `node_id` (−1 on extra
+//! points); cell data `entity_id` (the file id; the index of the line for line cells) and
+//! `entity_kind` (0 element, 1 condition, 2 line cell). A point data array holds one tuple per
+//! point, or one per node only: then it is padded on the extra points with NaN (`Float64`) or
+//! −1 (`Int64`). Floats are written in Rust's
 //! shortest round-trip scientific form (`{:e}`, e.g. `2.5e-1`), NaN as `nan`, infinities as
 //! `inf`/`-inf`; the output is byte-identical for the same input.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
+use csm_geometry::math::Point;
 use csm_model::{ModelPart, NodeIdx};
 
 use crate::error::{Error, ErrorKind, Location};
@@ -57,7 +61,9 @@ pub struct VtuWriter<'a> {
     model: &'a ModelPart,
     point_data: Vec<(String, DataArray)>,
     cell_data: Vec<(String, DataArray)>,
-    lines: Vec<[NodeIdx; 2]>,
+    extra_points: Vec<Point>,
+    /// Line cells as point indices (nodes, then extra points).
+    lines: Vec<[usize; 2]>,
 }
 
 fn push_f64(out: &mut String, x: f64) {
@@ -124,6 +130,7 @@ impl<'a> VtuWriter<'a> {
             model,
             point_data: Vec::new(),
             cell_data: Vec::new(),
+            extra_points: Vec::new(),
             lines: Vec::new(),
         }
     }
@@ -131,11 +138,32 @@ impl<'a> VtuWriter<'a> {
     /// Adds line cells between the given node pairs (e.g. contact pairs), after the
     /// conditions.
     pub fn line_cells(&mut self, lines: &[[NodeIdx; 2]]) -> &mut Self {
+        self.lines
+            .extend(lines.iter().map(|l| [l[0].index(), l[1].index()]));
+        self
+    }
+
+    /// Appends points after the nodes (and after the extra points added before): the first
+    /// gets the point index `n_points()` at the time of the call.
+    pub fn extra_points(&mut self, points: &[Point]) -> &mut Self {
+        self.extra_points.extend_from_slice(points);
+        self
+    }
+
+    /// Adds line cells between point indices: `0..n_nodes` are the nodes, then come the extra
+    /// points. An index past the last point is an error of [`VtuWriter::to_xml`].
+    pub fn point_line_cells(&mut self, lines: &[[usize; 2]]) -> &mut Self {
         self.lines.extend_from_slice(lines);
         self
     }
 
-    /// Adds a point data array (one tuple per node, dense order).
+    /// Number of points written: nodes + extra points.
+    pub fn n_points(&self) -> usize {
+        self.model.nodes().len() + self.extra_points.len()
+    }
+
+    /// Adds a point data array: one tuple per point, or one per node (dense order), padded on
+    /// the extra points with NaN (`Float64`) or −1 (`Int64`).
     pub fn point_data(&mut self, name: &str, data: DataArray) -> &mut Self {
         self.point_data.push((name.to_owned(), data));
         self
@@ -152,23 +180,51 @@ impl<'a> VtuWriter<'a> {
         self.model.elements().len() + self.model.conditions().len() + self.lines.len()
     }
 
-    /// The `.vtu` text; errors if a data array has the wrong length.
+    /// The `.vtu` text; errors if a data array has the wrong length or a line cell names a
+    /// point that does not exist.
     pub fn to_xml(&self, file_name: &str) -> Result<String, Error> {
-        let n_points = self.model.nodes().len();
+        let n_nodes = self.model.nodes().len();
+        let n_points = self.n_points();
         let n_cells = self.n_cells();
-        for (arrays, n) in [(&self.point_data, n_points), (&self.cell_data, n_cells)] {
-            for (name, a) in arrays {
-                if a.len() != n * a.components() {
-                    return Err(Error::new(
-                        file_name,
-                        Location::None,
-                        ErrorKind::ArrayLength {
-                            name: name.clone(),
-                            expected: n * a.components(),
-                            found: a.len(),
-                        },
-                    ));
-                }
+        for (name, a) in &self.point_data {
+            let c = a.components();
+            if a.len() != n_points * c && a.len() != n_nodes * c {
+                return Err(Error::new(
+                    file_name,
+                    Location::None,
+                    ErrorKind::ArrayLength {
+                        name: name.clone(),
+                        expected: n_points * c,
+                        found: a.len(),
+                    },
+                ));
+            }
+        }
+        if let Some(l) = self
+            .lines
+            .iter()
+            .find(|l| l[0] >= n_points || l[1] >= n_points)
+        {
+            return Err(Error::new(
+                file_name,
+                Location::None,
+                ErrorKind::Expected {
+                    expected: format!("line cells between point indices below {n_points}"),
+                    found: format!("a line cell {} – {}", l[0], l[1]),
+                },
+            ));
+        }
+        for (name, a) in &self.cell_data {
+            if a.len() != n_cells * a.components() {
+                return Err(Error::new(
+                    file_name,
+                    Location::None,
+                    ErrorKind::ArrayLength {
+                        name: name.clone(),
+                        expected: n_cells * a.components(),
+                        found: a.len(),
+                    },
+                ));
             }
         }
         let mut out = String::new();
@@ -191,11 +247,16 @@ impl<'a> VtuWriter<'a> {
                 .ids()
                 .iter()
                 .map(|&i| i64::from(i))
+                .chain(std::iter::repeat_n(-1, self.extra_points.len()))
                 .collect(),
         };
         write_array(&mut out, "node_id", &ids);
         for (name, a) in &self.point_data {
-            write_array(&mut out, name, a);
+            if a.len() == n_points * a.components() {
+                write_array(&mut out, name, a);
+            } else {
+                write_array(&mut out, name, &padded(a, n_points));
+            }
         }
         out.push_str("      </PointData>\n");
 
@@ -237,6 +298,7 @@ impl<'a> VtuWriter<'a> {
             .nodes()
             .coordinates()
             .iter()
+            .chain(&self.extra_points)
             .flat_map(|p| [p.x, p.y, p.z])
             .collect();
         write_array(
@@ -267,7 +329,7 @@ impl<'a> VtuWriter<'a> {
             }
         }
         for l in &self.lines {
-            conn.extend([l[0].index() as i64, l[1].index() as i64]);
+            conn.extend([l[0] as i64, l[1] as i64]);
             offsets.push(conn.len() as i64);
             types.push(3);
         }
@@ -303,6 +365,29 @@ impl<'a> VtuWriter<'a> {
     }
 }
 
+/// `a` extended to `n` tuples with NaN (`Float64`) or −1 (`Int64`).
+fn padded(a: &DataArray, n: usize) -> DataArray {
+    let c = a.components();
+    match a {
+        DataArray::F64 { components, values } => {
+            let mut values = values.clone();
+            values.resize(n * c, f64::NAN);
+            DataArray::F64 {
+                components: *components,
+                values,
+            }
+        }
+        DataArray::I64 { components, values } => {
+            let mut values = values.clone();
+            values.resize(n * c, -1);
+            DataArray::I64 {
+                components: *components,
+                values,
+            }
+        }
+    }
+}
+
 /// The connectivity, one cell per line.
 fn write_cells(out: &mut String, name: &str, conn: &[i64], offsets: &[i64]) {
     let _ = writeln!(
@@ -324,3 +409,6 @@ fn write_cells(out: &mut String, name: &str, conn: &[i64], offsets: &[i64]) {
     }
     out.push_str("        </DataArray>\n");
 }
+
+#[cfg(test)]
+mod tests;

@@ -78,7 +78,6 @@ pub(crate) struct OctreeReport {
     pub n_leaves: usize,
 }
 
-
 fn geometry_error(model: &ModelPart, c: ConditionIdx, message: String) -> Error {
     ErrorKind::Geometry {
         condition: model.conditions().ids()[c.index()],

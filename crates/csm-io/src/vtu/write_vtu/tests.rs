@@ -1,0 +1,134 @@
+//! Extra points and line cells over them: counts, padding, offsets, errors, determinism.
+
+use csm_geometry::GeometryKind;
+use csm_geometry::math::Point;
+use csm_model::{ConditionId, ElementId, ModelPart, NodeId, NodeIdx, PropertiesId};
+
+use super::{DataArray, VtuWriter};
+
+/// One tetrahedron (nodes 1–4) with its bottom face as a condition.
+fn tet() -> ModelPart {
+    let mut mp = ModelPart::new("Structure");
+    let props = PropertiesId(0);
+    mp.ensure_properties(props);
+    for (id, p) in [
+        (1, [0.0, 0.0, 0.0]),
+        (2, [1.0, 0.0, 0.0]),
+        (3, [0.0, 1.0, 0.0]),
+        (4, [0.0, 0.0, 1.0]),
+    ] {
+        mp.add_node(NodeId(id), Point::from(p)).unwrap();
+    }
+    let nodes = [NodeId(1), NodeId(2), NodeId(3), NodeId(4)];
+    mp.add_element(ElementId(7), GeometryKind::Tetrahedra3D4, "", &nodes, props)
+        .unwrap();
+    mp.add_condition(
+        ConditionId(9),
+        GeometryKind::Triangle3D3,
+        "",
+        &[NodeId(1), NodeId(3), NodeId(2)],
+        props,
+    )
+    .unwrap();
+    mp
+}
+
+/// The whitespace-separated values of the first `<DataArray … Name="name" …>`.
+fn array<'a>(xml: &'a str, name: &str) -> Vec<&'a str> {
+    let key = format!("Name=\"{name}\"");
+    let at = xml.find(&key).unwrap_or_else(|| panic!("no array {name}"));
+    let body_start = xml[at..].find('>').unwrap() + at + 1;
+    let body_end = xml[body_start..].find("</DataArray>").unwrap() + body_start;
+    xml[body_start..body_end].split_whitespace().collect()
+}
+
+#[test]
+fn extra_points_and_their_line_cells() {
+    let mp = tet();
+    let mut w = VtuWriter::new(&mp);
+    w.line_cells(&[[NodeIdx(0), NodeIdx(3)]]);
+    assert_eq!(w.n_points(), 4);
+    w.extra_points(&[Point::new(0.25, 0.25, 0.0), Point::new(0.5, 0.5, 0.5)]);
+    w.point_line_cells(&[[4, 5], [0, 5]]);
+    assert_eq!((w.n_points(), w.n_cells()), (6, 5));
+    // One tuple per node: padded; one per point: as given.
+    w.point_data(
+        "per_node",
+        DataArray::I64 {
+            components: 1,
+            values: vec![1, 0, 1, 0],
+        },
+    );
+    w.point_data(
+        "per_point",
+        DataArray::F64 {
+            components: 3,
+            values: (0..18).map(f64::from).collect(),
+        },
+    );
+    w.cell_data(
+        "c",
+        DataArray::I64 {
+            components: 1,
+            values: vec![5; 5],
+        },
+    );
+    let xml = w.to_xml("t.vtu").unwrap();
+    assert!(xml.contains("NumberOfPoints=\"6\" NumberOfCells=\"5\""));
+    assert_eq!(array(&xml, "node_id"), ["1", "2", "3", "4", "-1", "-1"]);
+    assert_eq!(array(&xml, "per_node"), ["1", "0", "1", "0", "-1", "-1"]);
+    assert_eq!(array(&xml, "per_point").len(), 18);
+    assert_eq!(array(&xml, "Points").len(), 18);
+    assert_eq!(
+        &array(&xml, "Points")[12..],
+        ["2.5e-1", "2.5e-1", "0e0", "5e-1", "5e-1", "5e-1"]
+    );
+    assert_eq!(array(&xml, "entity_kind"), ["0", "1", "2", "2", "2"]);
+    assert_eq!(array(&xml, "entity_id"), ["7", "9", "0", "1", "2"]);
+    assert_eq!(array(&xml, "types"), ["10", "5", "3", "3", "3"]);
+    assert_eq!(array(&xml, "offsets"), ["4", "7", "9", "11", "13"]);
+    assert_eq!(
+        array(&xml, "connectivity"),
+        [
+            "0", "1", "2", "3", "0", "2", "1", "0", "3", "4", "5", "0", "5"
+        ]
+    );
+    assert_eq!(w.to_xml("t.vtu").unwrap(), xml);
+}
+
+#[test]
+fn padding_of_float_arrays_is_nan() {
+    let mp = tet();
+    let mut w = VtuWriter::new(&mp);
+    w.extra_points(&[Point::origin()]);
+    w.point_data(
+        "gap",
+        DataArray::F64 {
+            components: 1,
+            values: vec![0.5; 4],
+        },
+    );
+    let xml = w.to_xml("t.vtu").unwrap();
+    assert_eq!(array(&xml, "gap"), ["5e-1", "5e-1", "5e-1", "5e-1", "nan"]);
+}
+
+#[test]
+fn bad_point_data_and_bad_line_cells_are_errors() {
+    let mp = tet();
+    let mut w = VtuWriter::new(&mp);
+    w.extra_points(&[Point::origin()]);
+    w.point_data(
+        "x",
+        DataArray::I64 {
+            components: 1,
+            values: vec![0; 3],
+        },
+    );
+    let e = w.to_xml("t.vtu").unwrap_err().to_string();
+    assert!(e.contains("values in data array `x`, found 3"), "{e}");
+    let mut w = VtuWriter::new(&mp);
+    w.extra_points(&[Point::origin()]);
+    w.point_line_cells(&[[0, 5]]);
+    let e = w.to_xml("t.vtu").unwrap_err().to_string();
+    assert!(e.contains("point indices below 5"), "{e}");
+}

@@ -1,0 +1,393 @@
+//! `csm search`: the RESULT.json contract, determinism over thread counts, `--vtk`, errors.
+
+use serde_json::Value;
+use std::collections::BTreeMap;
+
+use crate::{csm, kratos_mesh, repo_mesh, scratch};
+
+/// What [`check_vtu`] read from a `.vtu` file.
+#[derive(Debug)]
+pub struct VtuSummary {
+    pub n_points: usize,
+    pub n_cells: usize,
+    /// Every `<DataArray>` by section and name: its values.
+    pub arrays: BTreeMap<(String, String), Vec<String>>,
+}
+
+impl VtuSummary {
+    pub fn array(&self, section: &str, name: &str) -> &[String] {
+        self.arrays
+            .get(&(section.to_owned(), name.to_owned()))
+            .unwrap_or_else(|| panic!("no {section} array {name}"))
+    }
+
+    /// How many cells have VTK type `t`.
+    pub fn cells_of_type(&self, t: u8) -> usize {
+        let t = t.to_string();
+        self.array("Cells", "types")
+            .iter()
+            .filter(|x| **x == t)
+            .count()
+    }
+}
+
+fn attribute<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
+    let key = format!(" {name}=\"");
+    let at = tag.find(&key)? + key.len();
+    let end = tag[at..].find('"')? + at;
+    Some(&tag[at..end])
+}
+
+/// Checks what ParaView needs of an ASCII VTU file: tags nest and close in the
+/// VTKFile/UnstructuredGrid/Piece layout; every point (cell) data array has one tuple per
+/// point (cell); 3 coordinates per point; offsets increase and end at the connectivity's
+/// length; connectivity indices name points; one known cell type per cell with the node
+/// count that type needs.
+#[track_caller]
+pub fn check_vtu(xml: &str) -> VtuSummary {
+    assert!(xml.starts_with("<?xml version=\"1.0\"?>\n"));
+    let mut stack: Vec<String> = Vec::new();
+    let mut arrays = BTreeMap::new();
+    let (mut n_points, mut n_cells) = (None, None);
+    let mut rest = xml;
+    while let Some(start) = rest.find('<') {
+        let end = rest[start..].find('>').expect("unclosed tag") + start;
+        let tag = &rest[start + 1..end];
+        let after = &rest[end + 1..];
+        if tag.starts_with('?') {
+        } else if let Some(name) = tag.strip_prefix('/') {
+            assert_eq!(stack.pop().as_deref(), Some(name), "mismatched </{name}>");
+        } else {
+            assert_eq!(tag.matches('"').count() % 2, 0, "quotes in <{tag}>");
+            let name = tag.split_whitespace().next().unwrap().to_owned();
+            let parent = stack.last().cloned().unwrap_or_default();
+            let expected_parent = match name.as_str() {
+                "VTKFile" => "",
+                "UnstructuredGrid" => "VTKFile",
+                "Piece" => "UnstructuredGrid",
+                "PointData" | "CellData" | "Points" | "Cells" => "Piece",
+                "DataArray" => parent.as_str(),
+                other => panic!("unexpected element <{other}>"),
+            };
+            assert_eq!(parent, expected_parent, "<{name}> inside <{parent}>");
+            match name.as_str() {
+                "VTKFile" => assert_eq!(attribute(tag, "type"), Some("UnstructuredGrid")),
+                "Piece" => {
+                    n_points = attribute(tag, "NumberOfPoints").map(|x| x.parse().unwrap());
+                    n_cells = attribute(tag, "NumberOfCells").map(|x| x.parse().unwrap());
+                }
+                "DataArray" => {
+                    assert!(
+                        ["PointData", "CellData", "Points", "Cells"].contains(&parent.as_str()),
+                        "DataArray in <{parent}>"
+                    );
+                    assert_eq!(attribute(tag, "format"), Some("ascii"));
+                    let ty = attribute(tag, "type").unwrap();
+                    assert!(["Float64", "Int64", "UInt8"].contains(&ty), "{ty}");
+                    let array = attribute(tag, "Name").unwrap().to_owned();
+                    let body = &after[..after.find("</DataArray>").unwrap()];
+                    let values: Vec<String> = body.split_whitespace().map(str::to_owned).collect();
+                    let components: usize = attribute(tag, "NumberOfComponents")
+                        .unwrap()
+                        .parse()
+                        .unwrap();
+                    let n = match parent.as_str() {
+                        "PointData" | "Points" => n_points.unwrap(),
+                        "CellData" => n_cells.unwrap(),
+                        _ => values.len() / components,
+                    };
+                    assert_eq!(values.len(), n * components, "length of {parent}/{array}");
+                    let old = arrays.insert((parent.clone(), array.clone()), values);
+                    assert!(old.is_none(), "two arrays {parent}/{array}");
+                }
+                _ => {}
+            }
+            stack.push(name);
+        }
+        rest = after;
+    }
+    assert!(stack.is_empty(), "unclosed {stack:?}");
+    let s = VtuSummary {
+        n_points: n_points.expect("NumberOfPoints"),
+        n_cells: n_cells.expect("NumberOfCells"),
+        arrays,
+    };
+    assert_eq!(s.array("Points", "Points").len(), 3 * s.n_points);
+    for x in s.array("Points", "Points") {
+        let x: f64 = x.parse().unwrap();
+        assert!(x.is_finite());
+    }
+    let num = |v: &[String]| -> Vec<usize> { v.iter().map(|x| x.parse().unwrap()).collect() };
+    let offsets = num(s.array("Cells", "offsets"));
+    let types = num(s.array("Cells", "types"));
+    let conn = num(s.array("Cells", "connectivity"));
+    assert_eq!(offsets.len(), s.n_cells);
+    assert_eq!(types.len(), s.n_cells);
+    assert_eq!(offsets.last().copied().unwrap_or(0), conn.len());
+    assert!(
+        conn.iter().all(|&i| i < s.n_points),
+        "connectivity past the points"
+    );
+    let mut start = 0;
+    for (&end, &t) in offsets.iter().zip(&types) {
+        let nodes = match t {
+            3 => 2,
+            5 => 3,
+            9 | 10 => 4,
+            13 => 6,
+            12 => 8,
+            other => panic!("cell type {other} not expected here"),
+        };
+        assert_eq!(end - start, nodes, "cell of type {t}");
+        start = end;
+    }
+    s
+}
+
+fn search_json(args: &[&str]) -> Value {
+    let out = csm(args);
+    assert!(
+        out.status.success(),
+        "csm {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("RESULT.json on stdout")
+}
+
+fn without_timings(mut v: Value) -> Value {
+    v.as_object_mut().unwrap().remove("timings_s");
+    v
+}
+
+#[track_caller]
+fn assert_sorted_ids<'a>(keys: impl Iterator<Item = &'a String>) {
+    let ids: Vec<u64> = keys.map(|k| k.parse().expect("numeric id")).collect();
+    assert!(
+        ids.windows(2).all(|w| w[0] < w[1]),
+        "ids not ascending: {ids:?}"
+    );
+}
+
+#[test]
+fn result_json_follows_the_contract() {
+    let mesh = repo_mesh("boxes_41_ascii.msh");
+    let path = scratch("boxes_result.json");
+    let out = csm(&[
+        "search",
+        mesh.to_str().unwrap(),
+        "-o",
+        path.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        out.stdout.is_empty() && out.stderr.is_empty(),
+        "--quiet prints nothing"
+    );
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let keys: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
+    assert_eq!(
+        keys,
+        [
+            "format",
+            "pairs",
+            "nodes",
+            "paired_conditions",
+            "warnings",
+            "timings_s"
+        ]
+    );
+    assert_eq!(v["format"], "csm-result/1");
+    let timing_keys: Vec<&str> = v["timings_s"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(String::as_str)
+        .collect();
+    assert_eq!(timing_keys, ["read", "initialize", "search", "total"]);
+    let pairs = v["pairs"].as_object().unwrap();
+    assert_eq!(pairs.keys().collect::<Vec<_>>(), ["0"]);
+    let slaves = pairs["0"].as_object().unwrap();
+    assert!(!slaves.is_empty());
+    assert_sorted_ids(slaves.keys());
+    let mut n_pairs = 0;
+    for masters in slaves.values() {
+        let m: Vec<u64> = masters
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_u64().unwrap())
+            .collect();
+        assert!(m.windows(2).all(|w| w[0] < w[1]), "{m:?}");
+        n_pairs += m.len();
+    }
+    assert!(n_pairs > 0);
+    assert_sorted_ids(v["nodes"].as_object().unwrap().keys());
+    for node in v["nodes"].as_object().unwrap().values() {
+        assert!(node["active"].is_boolean());
+        assert!(node["normal_gap"].is_null() || node["normal_gap"].is_number());
+    }
+    assert!(v["paired_conditions"].is_u64());
+    assert!(v["warnings"].is_array());
+}
+
+#[test]
+fn same_result_for_any_thread_count() {
+    let mesh = repo_mesh("boxes_41_ascii.msh");
+    let m = mesh.to_str().unwrap();
+    let one = search_json(&["search", m, "--threads", "1", "--quiet"]);
+    let two = search_json(&["search", m, "--threads", "2", "--quiet"]);
+    assert_eq!(
+        serde_json::to_string_pretty(&without_timings(one)).unwrap(),
+        serde_json::to_string_pretty(&without_timings(two)).unwrap()
+    );
+}
+
+#[test]
+fn vtk_output_has_the_mesh_the_flags_and_the_pairs() {
+    let mesh = repo_mesh("boxes_41_ascii.msh");
+    let vtu = scratch("boxes_search.vtu");
+    let v = search_json(&[
+        "search",
+        mesh.to_str().unwrap(),
+        "--vtk",
+        vtu.to_str().unwrap(),
+        "--quiet",
+    ]);
+    let xml = std::fs::read_to_string(&vtu).unwrap();
+    let s = check_vtu(&xml);
+    // boxes_41_ascii.msh: 169 nodes, 266 elements, 60 conditions (`csm info`).
+    let slaves = v["pairs"]["0"].as_object().unwrap();
+    let n_pairs: usize = slaves.values().map(|m| m.as_array().unwrap().len()).sum();
+    assert_eq!(s.n_cells, 266 + 60 + n_pairs);
+    assert_eq!(s.cells_of_type(3), n_pairs);
+    assert_eq!(s.cells_of_type(10) + s.cells_of_type(12), 266);
+    assert_eq!(s.cells_of_type(5) + s.cells_of_type(9), 60);
+    // One centre point per condition in a pair, after the nodes.
+    let mut in_pairs: std::collections::BTreeSet<u64> = std::collections::BTreeSet::new();
+    for (slave, masters) in slaves {
+        if !masters.as_array().unwrap().is_empty() {
+            in_pairs.insert(slave.parse().unwrap());
+        }
+        in_pairs.extend(
+            masters
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_u64().unwrap()),
+        );
+    }
+    assert_eq!(s.n_points, 169 + in_pairs.len());
+    for name in [
+        "node_id",
+        "SLAVE",
+        "MASTER",
+        "ACTIVE",
+        "INTERFACE",
+        "normal_gap",
+    ] {
+        s.array("PointData", name);
+    }
+    let kinds = s.array("CellData", "entity_kind");
+    assert_eq!(kinds.iter().filter(|k| *k == "2").count(), n_pairs);
+    // The pairs' cell data name the slave and the master as in RESULT.json.
+    let cond = s.array("CellData", "condition_id");
+    let master = s.array("CellData", "master_id");
+    let mut from_vtu: Vec<(u64, u64)> = Vec::new();
+    for i in 0..s.n_cells {
+        if kinds[i] == "2" {
+            from_vtu.push((cond[i].parse().unwrap(), master[i].parse().unwrap()));
+        }
+    }
+    let from_json: Vec<(u64, u64)> = slaves
+        .iter()
+        .flat_map(|(s, ms)| {
+            let s: u64 = s.parse().unwrap();
+            ms.as_array()
+                .unwrap()
+                .iter()
+                .map(move |m| (s, m.as_u64().unwrap()))
+        })
+        .collect();
+    assert_eq!(from_vtu, from_json);
+    // Slave conditions carry SLAVE = 1, elements −1.
+    let slave_flag = s.array("CellData", "SLAVE");
+    assert_eq!(slave_flag[0], "-1");
+    let ids = s.array("CellData", "entity_id");
+    for i in 0..s.n_cells {
+        if kinds[i] == "1" && slaves.contains_key(&ids[i]) {
+            assert_eq!(slave_flag[i], "1", "condition {}", ids[i]);
+        }
+    }
+    // Deterministic: a second run writes the same bytes.
+    let again = scratch("boxes_search_again.vtu");
+    search_json(&[
+        "search",
+        mesh.to_str().unwrap(),
+        "--vtk",
+        again.to_str().unwrap(),
+        "--quiet",
+        "--threads",
+        "1",
+    ]);
+    assert_eq!(std::fs::read_to_string(&again).unwrap(), xml);
+}
+
+#[track_caller]
+fn check_error(args: &[&str], expect_in_message: &str) {
+    let out = csm(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "expected failure for {args:?}");
+    assert!(!stderr.contains("panicked"), "panic for {args:?}: {stderr}");
+    assert!(
+        stderr.starts_with("error: "),
+        "stderr for {args:?}: {stderr}"
+    );
+    assert!(
+        stderr.contains(expect_in_message),
+        "stderr for {args:?} lacks `{expect_in_message}`: {stderr}"
+    );
+}
+
+fn write_setup(name: &str, text: &str) -> std::path::PathBuf {
+    let path = scratch(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn bad_setups_are_clear_errors() {
+    let mesh = repo_mesh("boxes_41_ascii.msh");
+    let m = mesh.to_str().unwrap();
+    check_error(
+        &["search", m, "--setup", "does/not/exist.json"],
+        "does/not/exist.json: cannot read",
+    );
+    let bad = write_setup(
+        "bad_setup.json",
+        "{\n  \"contact_model_part\": {\"0\": [\"slave\", \"master\"]},\n  oops\n}\n",
+    );
+    check_error(
+        &["search", m, "--setup", bad.to_str().unwrap()],
+        &format!("{}:3:", bad.display()),
+    );
+    let unknown = write_setup(
+        "unknown_part.json",
+        "{\n  \"contact_model_part\": {\"0\": [\"slave\", \"no_such_part\"]},\n  \
+         \"assume_master_slave\": {\"0\": [\"slave\"]}\n}\n",
+    );
+    check_error(
+        &["search", m, "--setup", unknown.to_str().unwrap()],
+        "no_such_part",
+    );
+    // Without --setup, a mesh without `slave`/`master` parts says so.
+    let other = kratos_mesh("3D_contact_simplest_patch_matching_triquad_test.mdpa");
+    check_error(
+        &["search", other.to_str().unwrap()],
+        "no part named `slave` (any case)",
+    );
+}
