@@ -446,3 +446,105 @@ fn robust_inverted_octree_is_the_transpose_of_the_direct_one() {
     assert!(!found.is_empty());
     assert_eq!(found, transpose);
 }
+
+/// Dynamic search (§11): the kd query is centred on the half-jump centre, `Δ = 0.25·dt·(v_n +
+/// v_{n−1}) + 0.125·dt²·a_{n−1}`. Plates 1.0 apart find nothing statically; a slave velocity
+/// of −2 along z over dt = 1 moves the query centre by −1 onto the master. With NoCheck Kratos
+/// then subtracts Δ from the (never moved) nodes (Q9); robust mode does not.
+#[test]
+fn dynamic_search_queries_from_the_predicted_position() {
+    use csm_geometry::math::Vector;
+    use csm_model::VectorVar;
+    let sp = r#"{"type_search": "in_radius", "check_gap": "no_check", "dynamic_search": true}"#;
+    let run_dynamic = |compat: &str, velocity: f64| {
+        let mut model = plates(3, 1.0, false);
+        let s = setup(sp, &format!(r#", "compatibility": "{compat}""#));
+        let mut search = ContactSearch::initialize(&mut model, &s).unwrap();
+        let slave = model.find_part("Slave").unwrap();
+        let nodes = model.part(slave).nodes().to_vec();
+        for step in 0..2 {
+            let v = model
+                .nodal_data_mut()
+                .vector_mut(VectorVar::Velocity, step)
+                .unwrap();
+            for n in &nodes {
+                v[n.index()] = Vector::new(0.0, 0.0, velocity);
+            }
+        }
+        let z_before = model.nodes().coordinates()[nodes[0].index()].z;
+        let r = search.step(&mut model).unwrap();
+        let z_after = model.nodes().coordinates()[nodes[0].index()].z;
+        (r.n_pairs(), z_after - z_before)
+    };
+    assert_eq!(run_dynamic("kratos", 0.0).0, 0, "static: too far");
+    let (pairs, shift) = run_dynamic("kratos", -2.0);
+    assert!(pairs > 0, "the half-jump centre reaches the master");
+    assert!(
+        (shift - 1.0).abs() < 1e-12,
+        "Q9: X -= Δ with Δ = −1, got {shift}"
+    );
+    let (robust_pairs, robust_shift) = run_dynamic("robust", -2.0);
+    assert_eq!((robust_pairs, robust_shift), (pairs, 0.0));
+}
+
+/// `database_step_update` (§1.4, Q36): with 2, the search runs at step 1 and 3; at step 2
+/// every Contact node and condition is set inactive and the pairs of step 1 stay.
+#[test]
+fn database_step_update_skips_steps_and_deactivates() {
+    let mut model = plates(3, 0.01, false);
+    let s = setup(
+        r#"{"type_search": "in_radius", "check_gap": "no_check", "database_step_update": 2}"#,
+        "",
+    );
+    let mut search = ContactSearch::initialize(&mut model, &s).unwrap();
+    let first = search.step(&mut model).unwrap();
+    assert!(first.n_pairs() > 0 && first.nodes.values().all(|n| n.active));
+    search.finalize_step(&mut model);
+    model.process_info_mut().set_number("STEP", 2.0);
+    let skipped = search.step(&mut model).unwrap();
+    assert!(
+        skipped.nodes.values().all(|n| !n.active),
+        "Q36: deactivated in a skipped step"
+    );
+    search.finalize_step(&mut model);
+    model.process_info_mut().set_number("STEP", 3.0);
+    let third = search.step(&mut model).unwrap();
+    assert_eq!(third.pairs, first.pairs);
+    assert!(third.nodes.values().all(|n| n.active));
+}
+
+/// `adapt_search` multiplies search_factor and active_check_factor by h_max / h_min over all
+/// nodes (§16.2); a node outside every element makes it infinite (Q33), an error here.
+#[test]
+fn adapt_search_scales_by_the_mesh_size_ratio() {
+    let mut model = plates(3, 0.01, false);
+    // Master twice as coarse: h = 2H there.
+    let master = model.find_part("Master").unwrap();
+    let mut to_scale: Vec<NodeIdx> = model.part(master).nodes().to_vec();
+    for e in 0..model.elements().len() {
+        if model
+            .elements()
+            .nodes(e)
+            .iter()
+            .any(|n| to_scale.contains(n))
+        {
+            to_scale.extend_from_slice(model.elements().nodes(e));
+        }
+    }
+    to_scale.sort_unstable();
+    to_scale.dedup();
+    for n in to_scale {
+        let p = &mut model.nodes_mut().coordinates_mut()[n.index()];
+        p.coords *= 2.0;
+    }
+    let s = setup(r#"{"adapt_search": true, "check_gap": "no_check"}"#, "");
+    let search = ContactSearch::initialize(&mut model, &s).unwrap();
+    assert_eq!(search.setup().pairs[&0].search.search_factor, 7.0);
+    assert_eq!(search.setup().active_check_factor, 0.02);
+    let mut model = plates(2, 0.01, false);
+    model
+        .add_node(NodeId(9999), Point::new(9.0, 9.0, 9.0))
+        .unwrap();
+    let e = ContactSearch::initialize(&mut model, &s).unwrap_err();
+    assert!(e.to_string().contains("Q33"), "{e}");
+}
