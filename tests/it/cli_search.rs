@@ -382,7 +382,11 @@ fn bad_setups_are_clear_errors() {
     );
     check_error(
         &["search", m, "--setup", unknown.to_str().unwrap()],
-        "no_such_part",
+        &format!("{}:2: `contact_model_part.0`", unknown.display()),
+    );
+    check_error(
+        &["search", m, "--setup", unknown.to_str().unwrap()],
+        "found \"no_such_part\"",
     );
     // Without --setup, a mesh without `slave`/`master` parts says so.
     let other = kratos_mesh("3D_contact_simplest_patch_matching_triquad_test.mdpa");

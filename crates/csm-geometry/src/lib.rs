@@ -22,6 +22,7 @@ mod intersection;
 mod kdop;
 mod kind;
 pub mod math;
+mod mortar;
 mod obb;
 mod projection;
 mod shape;
@@ -39,6 +40,7 @@ pub use intersection::{
 };
 pub use kdop::{KDOP18_DIRECTIONS, Kdop18};
 pub use kind::GeometryKind;
+pub use mortar::*;
 pub use obb::{Obb, Obb2};
 pub use projection::{fast_project, fast_project_direction};
 pub use shape::{

@@ -41,11 +41,19 @@ impl Geometry<'_> {
     /// the reference-element test ([`is_inside_local`](Self::is_inside_local)). For faces the
     /// point is effectively projected onto the face (no out-of-plane check).
     ///
-    /// A point whose local coordinates do not converge is reported as outside (`Ok(None)`).
+    /// A point whose local coordinates do not converge is reported as outside (`Ok(None)`),
+    /// except for a Quadrilateral3D4, where, as in Kratos, the last iterate of the (Kratos-order)
+    /// iteration is tested whatever the outcome.
     /// Errors: degenerate geometry or non-finite input or tolerance.
     pub fn is_inside(&self, p: &Point, tolerance: Real) -> Result<Option<Point>, Error> {
         if !tolerance.is_finite() {
             return Err(Error::new(ErrorKind::NonFinite));
+        }
+        if self.kind() == GeometryKind::Quadrilateral3D4 {
+            // Kratos tests the last iterate whatever the iteration's outcome (a diverged or NaN
+            // iterate fails the test by itself).
+            let local = self.point_local_coordinates_kratos_quadrilateral(p)?.local;
+            return Ok(self.is_inside_local(&local, tolerance).then_some(local));
         }
         let local = match self.point_local_coordinates(p) {
             Ok(local) => local,

@@ -15,20 +15,16 @@ impl Geometry<'_> {
     ///
     /// * Line2D2: the closed form `ξ = 2 ((p − x0)·(x1 − x0)) / |x1 − x0|² − 1` (projection onto
     ///   the line).
-    /// * Every other kind: Gauss–Newton on `x(ξ) = p` starting at the reference centre
-    ///   ([`reference_center`](Self::reference_center); Kratos starts at `ξ = 0`, which is the
-    ///   same point for lines, quadrilaterals and hexahedra, and gives the same result for affine
-    ///   simplices; for quadratic triangles/tetrahedra and prisms the centre start avoids
-    ///   converging to a spurious preimage outside the element),
-    ///   `Δξ = (JᵀJ)⁻¹ Jᵀ (p − x(ξ))`, stopping when `|Δξ| < 1e-8`, at most 1000 iterations. For
-    ///   solids `J` is square and this is Newton's method; for faces it solves in the tangent
-    ///   plane, i.e. an off-surface point is projected (the result does not depend on the offset
-    ///   along the normal of a flat face). Affine kinds (simplices, parallelograms) converge in
-    ///   one step.
-    ///
-    /// Kratos projects a quadrilateral into a tangent frame before its 2D Newton iteration; for
-    /// flat faces that is the same solution, for warped quadrilaterals the two may differ at the
-    /// 1e-8 level.
+    /// * Quadrilateral3D4: Kratos' own Gauss–Newton iteration, reproduced operation for operation
+    ///   (the crate-internal `point_local_coordinates_kratos_quadrilateral`),
+    ///   so that local coordinates — and hence inside tests — of warped quadrilaterals agree with
+    ///   Kratos bit for bit. It is the same mathematical iteration as the generic one below (start
+    ///   at `ξ = 0`, least squares in the tangent plane); only the floating-point evaluation order
+    ///   and the stopping rules are Kratos' (at most 500 iterations; a step longer than 300 stops
+    ///   it). Kratos would return the last iterate of a non-converged iteration; this returns
+    ///   [`ErrorKind::NotConverged`] instead, while [`is_inside`](Self::is_inside) tests that last
+    ///   iterate exactly as Kratos' `IsInside` does.
+    /// * Every other kind: [`point_local_coordinates_least_squares`](Self::point_local_coordinates_least_squares).
     ///
     /// Errors: [`ErrorKind::NonFinite`] for a non-finite `p`; [`ErrorKind::Degenerate`] when the
     /// Jacobian is singular (zero-length line, zero-area face, flat solid, coincident nodes);
@@ -37,15 +33,49 @@ impl Geometry<'_> {
         if !is_finite_point(p) {
             return Err(Error::new(ErrorKind::NonFinite));
         }
-        if self.kind() == GeometryKind::Line2D2 {
-            let pts = self.points();
-            let d = pts[1] - pts[0];
-            let l2 = dot_kratos(&d, &d);
-            if l2.is_nan() || l2 <= 0.0 || l2.sqrt() <= DEGENERATE_REL * self.scale() {
-                return Err(Error::degenerate("zero-length line"));
+        match self.kind() {
+            GeometryKind::Line2D2 => {
+                let pts = self.points();
+                let d = pts[1] - pts[0];
+                let l2 = dot_kratos(&d, &d);
+                if l2.is_nan() || l2 <= 0.0 || l2.sqrt() <= DEGENERATE_REL * self.scale() {
+                    return Err(Error::degenerate("zero-length line"));
+                }
+                let xi = 2.0 * dot_kratos(&(p - pts[0]), &d) / l2 - 1.0;
+                finite(Point::new(xi, 0.0, 0.0))
             }
-            let xi = 2.0 * dot_kratos(&(p - pts[0]), &d) / l2 - 1.0;
-            return finite(Point::new(xi, 0.0, 0.0));
+            GeometryKind::Quadrilateral3D4 => {
+                let newton = self.point_local_coordinates_kratos_quadrilateral(p)?;
+                match newton.outcome {
+                    NewtonOutcome::Converged => Ok(newton.local),
+                    NewtonOutcome::Diverged | NewtonOutcome::MaxIterations => {
+                        Err(Error::new(ErrorKind::NotConverged))
+                    }
+                }
+            }
+            _ => self.point_local_coordinates_least_squares(p),
+        }
+    }
+
+    /// Generic Gauss–Newton on `x(ξ) = p` starting at the reference centre
+    /// ([`reference_center`](Self::reference_center); Kratos starts at `ξ = 0`, which is the same
+    /// point for lines, quadrilaterals and hexahedra, and gives the same result for affine
+    /// simplices; for quadratic triangles/tetrahedra and prisms the centre start avoids converging
+    /// to a spurious preimage outside the element), `Δξ = (JᵀJ)⁻¹ Jᵀ (p − x(ξ))`, stopping when
+    /// `|Δξ| < 1e-8`, at most 1000 iterations. For solids `J` is square and this is Newton's
+    /// method; for faces it solves in the tangent plane, i.e. an off-surface point is projected
+    /// (the result does not depend on the offset along the normal of a flat face). Affine kinds
+    /// (simplices, parallelograms) converge in one step.
+    ///
+    /// This is what [`point_local_coordinates`](Self::point_local_coordinates) uses for every
+    /// kind except Line2D2 and Quadrilateral3D4; it is available for those too (for a
+    /// Quadrilateral3D4 it agrees with the Kratos-order iteration to about 1e-8 relative, the
+    /// convergence tolerance, but not bit for bit).
+    ///
+    /// Errors: as [`point_local_coordinates`](Self::point_local_coordinates).
+    pub fn point_local_coordinates_least_squares(&self, p: &Point) -> Result<Point, Error> {
+        if !is_finite_point(p) {
+            return Err(Error::new(ErrorKind::NonFinite));
         }
         let d = self.kind().local_dim();
         let scale = self.scale();
@@ -82,6 +112,151 @@ impl Geometry<'_> {
             }
         }
         Err(Error::new(ErrorKind::NotConverged))
+    }
+}
+
+/// Kratos' `Quadrilateral3D4` local-coordinates iteration: maximum number of iterations.
+pub(crate) const KRATOS_QUADRILATERAL_MAX_ITERATIONS: usize = 500;
+/// Kratos' `Quadrilateral3D4` local-coordinates iteration: an increment longer than this stops
+/// the iteration (divergence).
+pub(crate) const KRATOS_QUADRILATERAL_MAX_INCREMENT_NORM: Real = 300.0;
+
+/// How Kratos' quadrilateral iteration stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum NewtonOutcome {
+    /// `|Δξ| < 1e-8`.
+    Converged,
+    /// `|Δξ| > 300` (or not finite): Kratos stops and keeps the last iterate.
+    Diverged,
+    /// 500 iterations without either.
+    MaxIterations,
+}
+
+/// The result of [`Geometry::point_local_coordinates_kratos_quadrilateral`]: the last iterate
+/// (what Kratos returns whatever the outcome) and how the iteration stopped.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct KratosNewton {
+    pub(crate) local: Point,
+    pub(crate) outcome: NewtonOutcome,
+}
+
+impl Geometry<'_> {
+    /// Kratos 10.4.4 `Quadrilateral3D4::PointLocalCoordinatesImplementation`, evaluated in
+    /// Kratos' order (checked bit for bit against the Kratos 10.4.4 binary on random warped
+    /// quadrilaterals):
+    ///
+    /// * `ξ = (0, 0)`; per iteration, with `N`/`∂N` the bilinear shape functions and their local
+    ///   derivatives at `ξ` (`N_0 = 0.25 (1 − ξ)(1 − η)`, `∂N_0/∂ξ = −0.25 (1 − η)`, …):
+    /// * `x = Σ_i N_i X_i` (node order, per component), `r = p − x`;
+    /// * `D = X ∂N` (3×2, sums over the nodes in order), `A = DᵀD`, `b = Dᵀ r` (sums over x, y, z
+    ///   in order);
+    /// * `det = A00 A11 − A01 A10`; the inverse entries `A11/det`, `−A10/det`, `−A01/det`,
+    ///   `A00/det`; `Δξ = A⁻¹ b` (two products summed); `ξ += Δξ`;
+    /// * stop when `|Δξ| > 300` (diverged) or `|Δξ| < 1e-8` (converged), at most 500 iterations.
+    ///
+    /// Kratos returns the last iterate whatever the outcome; so does this (the outcome says how
+    /// it stopped). No projection is made first: the least-squares step solves in the tangent
+    /// plane of the current iterate.
+    ///
+    /// Errors: [`ErrorKind::NonFinite`] for a non-finite `p`; [`ErrorKind::Degenerate`] when the
+    /// quadrilateral's Jacobian at its centre is singular (where Kratos would divide by zero). A
+    /// singular or non-finite step at a later iterate is reported as
+    /// [`NewtonOutcome::Diverged`] (Kratos' iterate becomes NaN/∞ and fails every inside test).
+    pub(crate) fn point_local_coordinates_kratos_quadrilateral(
+        &self,
+        p: &Point,
+    ) -> Result<KratosNewton, Error> {
+        if !is_finite_point(p) {
+            return Err(Error::new(ErrorKind::NonFinite));
+        }
+        debug_assert_eq!(self.kind(), GeometryKind::Quadrilateral3D4);
+        let pts = self.points();
+        let x_nodes: [[Real; 3]; 4] = [
+            [pts[0].x, pts[0].y, pts[0].z],
+            [pts[1].x, pts[1].y, pts[1].z],
+            [pts[2].x, pts[2].y, pts[2].z],
+            [pts[3].x, pts[3].y, pts[3].z],
+        ];
+        let target = [p.x, p.y, p.z];
+        let det_floor = (DEGENERATE_REL * DEGENERATE_REL) * self.scale().powi(4);
+        let (mut xi, mut eta) = (0.0, 0.0);
+        let mut outcome = NewtonOutcome::MaxIterations;
+        for k in 0..KRATOS_QUADRILATERAL_MAX_ITERATIONS {
+            let n = [
+                0.25 * (1.0 - xi) * (1.0 - eta),
+                0.25 * (1.0 + xi) * (1.0 - eta),
+                0.25 * (1.0 + xi) * (1.0 + eta),
+                0.25 * (1.0 - xi) * (1.0 + eta),
+            ];
+            let mut x = [0.0; 3];
+            for (ni, xn) in n.iter().zip(&x_nodes) {
+                for c in 0..3 {
+                    x[c] += ni * xn[c];
+                }
+            }
+            let r = [target[0] - x[0], target[1] - x[1], target[2] - x[2]];
+            let dn = [
+                [-0.25 * (1.0 - eta), -0.25 * (1.0 - xi)],
+                [0.25 * (1.0 - eta), -0.25 * (1.0 + xi)],
+                [0.25 * (1.0 + eta), 0.25 * (1.0 + xi)],
+                [-0.25 * (1.0 + eta), 0.25 * (1.0 - xi)],
+            ];
+            // D = X ∂N (3×2).
+            let mut d = [[0.0; 2]; 3];
+            for (c, row) in d.iter_mut().enumerate() {
+                for (j, dcj) in row.iter_mut().enumerate() {
+                    let mut t = 0.0;
+                    for (xn, dni) in x_nodes.iter().zip(&dn) {
+                        t += xn[c] * dni[j];
+                    }
+                    *dcj = t;
+                }
+            }
+            // A = DᵀD, b = Dᵀ r.
+            let mut a = [[0.0; 2]; 2];
+            for (i, row) in a.iter_mut().enumerate() {
+                for (j, aij) in row.iter_mut().enumerate() {
+                    let mut t = 0.0;
+                    for dc in &d {
+                        t += dc[i] * dc[j];
+                    }
+                    *aij = t;
+                }
+            }
+            let mut b = [0.0; 2];
+            for (i, bi) in b.iter_mut().enumerate() {
+                let mut t = 0.0;
+                for (dc, rc) in d.iter().zip(&r) {
+                    t += dc[i] * rc;
+                }
+                *bi = t;
+            }
+            let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+            if k == 0 && (det.is_nan() || det <= det_floor) {
+                return Err(Error::degenerate("singular Jacobian"));
+            }
+            let inv00 = a[1][1] / det;
+            let inv10 = -a[1][0] / det;
+            let inv01 = -a[0][1] / det;
+            let inv11 = a[0][0] / det;
+            let d_xi = inv00 * b[0] + inv01 * b[1];
+            let d_eta = inv10 * b[0] + inv11 * b[1];
+            xi += d_xi;
+            eta += d_eta;
+            let norm = (d_xi * d_xi + d_eta * d_eta).sqrt();
+            if norm > KRATOS_QUADRILATERAL_MAX_INCREMENT_NORM || !norm.is_finite() {
+                outcome = NewtonOutcome::Diverged;
+                break;
+            }
+            if norm < LOCAL_COORDINATES_TOLERANCE {
+                outcome = NewtonOutcome::Converged;
+                break;
+            }
+        }
+        Ok(KratosNewton {
+            local: Point::new(xi, eta, 0.0),
+            outcome,
+        })
     }
 }
 

@@ -204,3 +204,153 @@ fn degenerate_inputs_are_errors() {
     assert!(g.unit_normal(&p(f64::INFINITY, 0.0, 0.0)).is_err());
     assert!(g.is_inside(&p(0.1, 0.1, 0.0), f64::NAN).is_err());
 }
+
+/// A warped (non-planar) quadrilateral used by the Kratos-order local-coordinates tests.
+fn warped_quad() -> [Point; 4] {
+    [
+        p(0.0, 0.0, 0.0),
+        p(1.0, 0.0, 0.1),
+        p(1.1, 1.0, -0.05),
+        p(0.0, 0.9, 0.2),
+    ]
+}
+
+#[test]
+fn quad_local_coordinates_planar_by_hand() {
+    // Rectangle [0, 2] × [0, 1]: x = 1 + ξ, y = 0.5 + 0.5 η. For p = (1.5, 0.25, 3): the first
+    // step has D = [[1, 0], [0, 0.5], [0, 0]], DᵀD = diag(1, 0.25), Dᵀr = (0.5, −0.125), so
+    // Δξ = (0.5, −0.5) exactly; the second step is zero. The offset along z is ignored.
+    let rect = [
+        p(0.0, 0.0, 0.0),
+        p(2.0, 0.0, 0.0),
+        p(2.0, 1.0, 0.0),
+        p(0.0, 1.0, 0.0),
+    ];
+    let g = Geometry::new(GeometryKind::Quadrilateral3D4, &rect).unwrap();
+    let l = g.point_local_coordinates(&p(1.5, 0.25, 3.0)).unwrap();
+    assert_eq!((l.x, l.y, l.z), (0.5, -0.5, 0.0));
+    let newton = g
+        .point_local_coordinates_kratos_quadrilateral(&p(1.5, 0.25, 3.0))
+        .unwrap();
+    assert_eq!(
+        newton.outcome,
+        super::local_coordinates::NewtonOutcome::Converged
+    );
+    // Nodes map to the reference corners.
+    for (x, (a, b)) in rect
+        .iter()
+        .zip([(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)])
+    {
+        let l = g.point_local_coordinates(x).unwrap();
+        check_close(l.x, a, 1e-15);
+        check_close(l.y, b, 1e-15);
+    }
+    // A planar trapezoid (not a parallelogram): the bilinear map of a known ξ comes back.
+    let trap = [
+        p(0.0, 0.0, 1.0),
+        p(4.0, 0.0, 1.0),
+        p(3.0, 2.0, 1.0),
+        p(1.0, 2.0, 1.0),
+    ];
+    let g = Geometry::new(GeometryKind::Quadrilateral3D4, &trap).unwrap();
+    // ξ = (0.5, 0.5): N = (1/16, 3/16, 9/16, 3/16) → x = (0 + 12 + 27 + 3)/16 = 2.625, y = 1.5.
+    let l = g.point_local_coordinates(&p(2.625, 1.5, -2.0)).unwrap();
+    check_close(l.x, 0.5, 1e-12);
+    check_close(l.y, 0.5, 1e-12);
+}
+
+#[test]
+fn quad_local_coordinates_match_kratos_bits() {
+    // Values computed by Kratos 10.4.4's `Quadrilateral3D4::PointLocalCoordinatesImplementation`
+    // (called in the pip build's libKratosCore.so) for the same inputs.
+    let quad = warped_quad();
+    let g = Geometry::new(GeometryKind::Quadrilateral3D4, &quad).unwrap();
+    for (x, (a, b)) in [
+        (
+            p(0.3, 0.4, 0.5),
+            (-0.486294003022787_f64, -0.02583163821308055_f64),
+        ),
+        (
+            p(0.3, 0.4, 0.05),
+            (-0.42250668889971377, -0.14368731625353295),
+        ),
+        (
+            p(0.55, 0.5, 0.0625),
+            (0.044927894693266274, 0.05020746332380995),
+        ),
+    ] {
+        let l = g.point_local_coordinates(&x).unwrap();
+        assert_eq!(
+            (l.x.to_bits(), l.y.to_bits()),
+            (a.to_bits(), b.to_bits()),
+            "{x:?}"
+        );
+        assert_eq!(l.z, 0.0);
+    }
+}
+
+#[test]
+fn quad_inside_uses_kratos_last_iterate() {
+    // kratos_double_curvature_quadrilateral, DirectCheck: slave node 76 projected (along the
+    // slave normal) onto the plane of master condition 332 (nodes 110, 93, 90, 116). The point
+    // is far from that quad; Kratos' Gauss–Newton iteration does not converge in its 500
+    // iterations and its last iterate happens to lie inside, so Kratos reports the node inside
+    // (and ACTIVE). The trajectory is chaotic: only a bit-for-bit reproduction gets it.
+    let master = [
+        p(58.1268144291, 10.8028316162, 4.1060288525),
+        p(59.4881925172, 9.8519425071, 3.8687421806),
+        p(60.3329854057, 9.2206450044, 5.6201095797),
+        p(58.8399156420, 10.5999827513, 6.5493501723),
+    ];
+    let q = p(60.04688035266929, 8.939035794520148, 0.04976625339083992);
+    let g = Geometry::new(GeometryKind::Quadrilateral3D4, &master).unwrap();
+    let newton = g.point_local_coordinates_kratos_quadrilateral(&q).unwrap();
+    assert_eq!(
+        newton.outcome,
+        super::local_coordinates::NewtonOutcome::MaxIterations
+    );
+    let (a, b) = (-0.6246259051769698_f64, -0.9368648261830903_f64);
+    assert_eq!(
+        (newton.local.x.to_bits(), newton.local.y.to_bits()),
+        (a.to_bits(), b.to_bits())
+    );
+    let inside = g.is_inside(&q, f64::EPSILON).unwrap().unwrap();
+    assert_eq!(inside, newton.local);
+    // The strict API still reports the failure to converge.
+    assert_eq!(
+        *g.point_local_coordinates(&q).unwrap_err().kind(),
+        ErrorKind::NotConverged
+    );
+}
+
+#[test]
+fn quad_local_coordinates_invariances() {
+    let quad = warped_quad();
+    let g = Geometry::new(GeometryKind::Quadrilateral3D4, &quad).unwrap();
+    let x = p(0.7, 0.3, 0.4);
+    let l = g.point_local_coordinates(&x).unwrap();
+    // Least squares: the residual is orthogonal to both tangents at the solution.
+    let r = x - g.global_coordinates(&l);
+    let j = g.jacobian(&l);
+    for c in 0..2 {
+        let t = Vector::new(j[(0, c)], j[(1, c)], j[(2, c)]);
+        assert!(r.dot(&t).abs() < 1e-9 * t.norm() * r.norm().max(1.0));
+    }
+    // The same iteration as the generic least-squares one, up to the convergence tolerance.
+    let m = g.point_local_coordinates_least_squares(&x).unwrap();
+    assert!((m - l).norm() < 1e-8);
+    // Cyclic relabelling (node k+1 first) rotates the reference square: ξ' = η, η' = −ξ.
+    let rolled = [quad[1], quad[2], quad[3], quad[0]];
+    let g2 = Geometry::new(GeometryKind::Quadrilateral3D4, &rolled).unwrap();
+    let l2 = g2.point_local_coordinates(&x).unwrap();
+    check_close(l2.x, l.y, 1e-9);
+    check_close(l2.y, -l.x, 1e-9);
+    // Rigid motion (translation plus a rotation) of nodes and point together.
+    let rot = nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0);
+    let shift = Vector::new(-7.0, 3.0, 11.0);
+    let moved: Vec<Point> = quad.iter().map(|q| rot * q + shift).collect();
+    let g3 = Geometry::new(GeometryKind::Quadrilateral3D4, &moved).unwrap();
+    let l3 = g3.point_local_coordinates(&(rot * x + shift)).unwrap();
+    check_close(l3.x, l.x, 1e-9);
+    check_close(l3.y, l.y, 1e-9);
+}

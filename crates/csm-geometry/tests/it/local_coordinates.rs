@@ -169,3 +169,29 @@ fn known_normals() {
     assert!((n - Vector::x()).norm() < 1e-15);
     assert!((g.length().unwrap() - 1.0).abs() < 1e-14);
 }
+
+#[test]
+fn warped_quadrilaterals_kratos_order_agrees_with_least_squares() {
+    // Quadrilateral3D4 uses Kratos' evaluation order (bit-faithful to Kratos); it is the same
+    // Gauss–Newton iteration as the generic least-squares solver, so converged results agree to
+    // the convergence tolerance, and off-surface points give the same tangent-plane solution.
+    let mut rng = Rng::new(0x0A4B);
+    let kind = GeometryKind::Quadrilateral3D4;
+    for _ in 0..50 {
+        let pts = embedded(kind, &mut rng);
+        let g = Geometry::new(kind, &pts).unwrap();
+        for _ in 0..10 {
+            let local = interior_local(kind, &mut rng);
+            let n = g.unit_normal(&local).unwrap();
+            let x = g.global_coordinates(&local) + n * rng.range(-0.05, 0.05);
+            let kratos = g.point_local_coordinates(&x).unwrap();
+            let lsq = g.point_local_coordinates_least_squares(&x).unwrap();
+            assert!((kratos - lsq).norm() < 1e-8, "{kratos:?} vs {lsq:?}");
+            assert_eq!(kratos.z, 0.0);
+            let inside = g.is_inside(&x, 1e-6).unwrap();
+            if local.x.abs() < 0.9 && local.y.abs() < 0.9 {
+                assert_eq!(inside, Some(kratos));
+            }
+        }
+    }
+}

@@ -5,4 +5,5 @@ mod common;
 mod degenerate;
 mod faces;
 mod local_coordinates;
+mod mortar;
 mod obb_vs_parry;

@@ -69,6 +69,13 @@ impl ContactSearch {
     /// info, nodal variables), `adapt_search`, the instance of every pair (stage 4), the
     /// search processes' construction and the point lists.
     pub fn initialize(model: &mut ModelPart, setup: &SearchSetup) -> Result<ContactSearch, Error> {
+        ContactSearch::initialize_inner(model, setup).map_err(|e| locate(e, setup))
+    }
+
+    fn initialize_inner(
+        model: &mut ModelPart,
+        setup: &SearchSetup,
+    ) -> Result<ContactSearch, Error> {
         let mut setup = setup.clone();
         let mut warnings = setup.warnings.clone();
         // A `Contact` part in the mesh is reused (Kratos' path without preprocessing): no
@@ -362,6 +369,22 @@ impl ContactSearch {
         }
         result
     }
+}
+
+/// Points an error about a setup value (e.g. an unknown part name) at the setup file's line.
+fn locate(e: Error, setup: &SearchSetup) -> Error {
+    let (Some(source), None) = (&setup.source, e.file()) else {
+        return e;
+    };
+    let line = match e.kind() {
+        ErrorKind::InvalidValue { key, found, .. } => source
+            .line_of(found)
+            .or_else(|| source.line_of(&format!("\"{}\"", key.rsplit('.').next().unwrap_or(key)))),
+        ErrorKind::UnknownKey { key } => source.line_of(key),
+        _ => return e,
+    };
+    let file = source.file.clone();
+    e.at(&file, line)
 }
 
 /// The parts of a pre-existing `Contact`: every pair needs its `Contact.ContactSub<key>`, as

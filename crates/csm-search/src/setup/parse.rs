@@ -8,7 +8,7 @@ use serde_json::{Map, Value};
 use super::defaults::{ALM_DEFAULTS, CONTACT_MODULES, CSM_KEYS, WRAPPER_DEFAULTS};
 use super::types::{
     CheckGap, Compatibility, ContactType, ObbIntersectionType, OctreeSearchParameters, PairSetup,
-    SearchParameters, SearchSetup, SearchTreeType,
+    SearchParameters, SearchSetup, SearchTreeType, SetupSource,
 };
 use super::validate::validate_and_fill;
 use crate::error::{Error, ErrorKind};
@@ -255,13 +255,22 @@ fn string_list(v: &Value, key: &str) -> Result<Vec<String>, Error> {
 /// `cpp_search_parameters` (DESIGN.md §2). `file` names the setup in errors, which carry the
 /// line of the offending key.
 pub fn parse_setup(text: &str, file: &str) -> Result<SearchSetup, Error> {
-    parse_inner(text).map_err(|e| {
-        let line = match e.kind() {
-            ErrorKind::Json(_) => e.line(),
-            kind => key_of(kind).and_then(|k| line_of(text, k)),
-        };
-        e.at(file, line)
-    })
+    let source = SetupSource {
+        file: file.to_owned(),
+        text: text.to_owned(),
+    };
+    parse_inner(text)
+        .map(|setup| SearchSetup {
+            source: Some(source),
+            ..setup
+        })
+        .map_err(|e| {
+            let line = match e.kind() {
+                ErrorKind::Json(_) => e.line(),
+                kind => key_of(kind).and_then(|k| line_of(text, k)),
+            };
+            e.at(file, line)
+        })
 }
 
 fn parse_inner(text: &str) -> Result<SearchSetup, Error> {
@@ -515,6 +524,7 @@ fn parse_inner(text: &str) -> Result<SearchSetup, Error> {
         nodal_h,
         cpp_search_parameters: cpp.is_some(),
         warnings: cx.warnings,
+        source: None,
     })
 }
 

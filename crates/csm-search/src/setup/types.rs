@@ -189,4 +189,25 @@ pub struct SearchSetup {
     pub cpp_search_parameters: bool,
     /// Silent fallbacks and dropped keys, in the order met.
     pub warnings: Vec<String>,
+    /// The setup file's name and text, so that errors met later (an unknown part name, …)
+    /// can point at the line.
+    pub source: Option<SetupSource>,
+}
+
+/// Where a setup came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SetupSource {
+    /// The name errors show.
+    pub file: String,
+    /// The setup text.
+    pub text: String,
+}
+
+impl SetupSource {
+    /// The 1-based line of the first occurrence of `needle` in the text.
+    pub fn line_of(&self, needle: &str) -> Option<usize> {
+        self.text
+            .find(needle)
+            .map(|pos| self.text[..pos].matches('\n').count() + 1)
+    }
 }

@@ -64,6 +64,12 @@ pub fn assign_contact_flags(
     model: &mut ModelPart,
     setup: &SearchSetup,
 ) -> Result<ContactParts, Error> {
+    // Every named part must exist before anything is created.
+    for (&key, pair) in &setup.pairs {
+        for path in pair.parts.iter().chain(&pair.slaves) {
+            user_part(model, path, key)?;
+        }
+    }
     let contact = model.create_part("Contact").map_err(model_error)?;
     let mut subs = BTreeMap::new();
     let mut properties = BTreeMap::new();

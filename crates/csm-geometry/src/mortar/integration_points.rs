@@ -1,0 +1,184 @@
+//! Gauss points of the integration cells with slave and master local coordinates (the
+//! kinematics of Kratos' mortar mapper and explicit contribution, reference §10.2.2).
+
+use super::cell::Segmentation;
+use super::face::{MortarFace, MortarMode};
+use crate::math::{EPS, Point, Real, Vector, norm_kratos};
+use crate::projection::fast_project_direction;
+use crate::{Error, ErrorKind};
+
+/// The mapper's degenerate-segment factor: a 2D cell shorter than `1e-6 · slave.Length()` is
+/// skipped (`SimpleMortarMapperProcess`, Q45).
+pub const MAPPER_LENGTH_FACTOR: Real = 1e-6;
+/// The explicit weighted-gap contribution's factor: `1e-12 · slave.Length()` (Q45).
+pub const EXPLICIT_LENGTH_FACTOR: Real = 1e-12;
+
+/// How the cells are integrated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OperatorSettings {
+    /// Kratos `integration_order` (`GI_GAUSS_n`): 1 or 2 are supported; 3..=5 give
+    /// [`ErrorKind::Unsupported`]; any other value means 2, as in Kratos.
+    pub integration_order: usize,
+    /// Degenerate-segment factor of the 2D `LengthCheck` ([`MAPPER_LENGTH_FACTOR`] or
+    /// [`EXPLICIT_LENGTH_FACTOR`]); 3D cells use Heron's test (`HeronCheck`) instead.
+    pub length_factor: Real,
+}
+
+impl OperatorSettings {
+    /// The mortar mapper of NormalGapProcess: order 2, length factor 1e-6.
+    pub fn mapper() -> OperatorSettings {
+        OperatorSettings {
+            integration_order: 2,
+            length_factor: MAPPER_LENGTH_FACTOR,
+        }
+    }
+
+    /// The explicit weighted-gap contribution: order 2 (`INTEGRATION_ORDER_CONTACT` default),
+    /// length factor 1e-12.
+    pub fn explicit() -> OperatorSettings {
+        OperatorSettings {
+            integration_order: 2,
+            length_factor: EXPLICIT_LENGTH_FACTOR,
+        }
+    }
+}
+
+impl Default for OperatorSettings {
+    /// [`OperatorSettings::mapper`].
+    fn default() -> OperatorSettings {
+        OperatorSettings::mapper()
+    }
+}
+
+/// One Gauss point of an integration cell.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MortarIntegrationPoint {
+    /// Index of the cell in [`Segmentation::cells`].
+    pub cell: usize,
+    /// Global position (interpolated on the cell, the "decomposition geometry").
+    pub global: Point,
+    /// Slave local coordinates (`PointLocalCoordinates` of `global` on the slave).
+    pub slave_local: Point,
+    /// The Gauss-point normal: normalised `Σ N_s,i · n_i` (nodal normals).
+    pub normal: Vector,
+    /// The point on the master plane reached from `global` along `−normal`
+    /// (`FastProjectDirection` onto the plane through master node 0 with the master normal).
+    pub master_global: Point,
+    /// Master local coordinates of `master_global` (not checked to be inside).
+    pub master_local: Point,
+    /// Integration weight times the cell Jacobian determinant (`w · detJ`); the weights of a
+    /// segmentation sum to its measure.
+    pub weight: Real,
+}
+
+/// The Gauss points Kratos integrates the mortar operators on: for every cell that passes the
+/// degenerate-shape test ([`MortarCell::is_bad_shape`](super::MortarCell::is_bad_shape) with
+/// `length_factor · slave.Length()`), the Gauss rule of the cell geometry (Line2D2 or
+/// Triangle3D3) with weight `w · detJ_cell` (`detJ` of a segment = length / 2; of a triangle
+/// = 2 · area: Heron's area in [`MortarMode::Kratos`] as Kratos' `Triangle3D3`, the cross
+/// product in robust mode), the slave local coordinates, the Gauss-point normal and the master
+/// projection.
+///
+/// Errors: [`ErrorKind::Unsupported`] for integration orders 3..=5; [`ErrorKind::Degenerate`]
+/// for a zero Gauss-point normal or a degenerate master; errors of the local-coordinate
+/// iterations.
+pub fn integration_points(
+    slave: &MortarFace<'_>,
+    master: &MortarFace<'_>,
+    segmentation: &Segmentation,
+    settings: &OperatorSettings,
+) -> Result<Vec<MortarIntegrationPoint>, Error> {
+    let sg = slave.geometry();
+    let mg = master.geometry();
+    let order = match settings.integration_order {
+        1 => 1,
+        3..=5 => {
+            return Err(Error::new(ErrorKind::Unsupported(
+                "mortar integration orders 3 to 5",
+            )));
+        }
+        _ => 2,
+    };
+    let length_tolerance = if sg.kind().local_dim() == 1 {
+        settings.length_factor * sg.length()?
+    } else {
+        0.0
+    };
+    let mut out = Vec::new();
+    for (cell_idx, cell) in segmentation.cells().iter().enumerate() {
+        if cell.is_bad_shape(length_tolerance) {
+            continue;
+        }
+        let g = cell.global_vertices();
+        let rule = decomposition_rule(cell.is_segment(), order);
+        let det_j = if cell.is_segment() {
+            cell.measure() / 2.0
+        } else {
+            2.0 * match segmentation.mode() {
+                MortarMode::Kratos => cell.measure_heron(),
+                MortarMode::Robust => cell.measure(),
+            }
+        };
+        for (n_cell, w) in rule {
+            let mut x = Vector::zeros();
+            for (nk, p) in n_cell.iter().zip(g) {
+                x += p.coords * *nk;
+            }
+            let global = Point::from(x);
+            let slave_local = sg.point_local_coordinates(&global)?;
+            let n_s = sg.shape_functions(&slave_local);
+            let mut normal = Vector::zeros();
+            for (i, ni) in n_s.iter().enumerate() {
+                normal += slave.nodal_normal(i) * *ni;
+            }
+            let norm = norm_kratos(&normal);
+            if norm.is_nan() || norm <= EPS {
+                return Err(Error::degenerate("zero Gauss-point normal"));
+            }
+            normal /= norm;
+            let (master_global, _) =
+                fast_project_direction(&mg.points()[0], &global, &master.normal(), &(-normal));
+            let master_local = mg.point_local_coordinates(&master_global)?;
+            out.push(MortarIntegrationPoint {
+                cell: cell_idx,
+                global,
+                slave_local,
+                normal,
+                master_global,
+                master_local,
+                weight: w * det_j,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// Gauss rule of a cell as (shape-function values of the cell at the point, weight): Line2D2
+/// Gauss–Legendre on [−1, 1]; Triangle3D3 `GI_GAUSS_1` (centroid, ½) and `GI_GAUSS_2`
+/// (1/6, 1/6), (2/3, 1/6), (1/6, 2/3) with weights 1/6.
+fn decomposition_rule(segment: bool, order: usize) -> Vec<([Real; 3], Real)> {
+    if segment {
+        let pts: &[(Real, Real)] = if order == 1 {
+            &[(0.0, 2.0)]
+        } else {
+            const G: Real = 0.577_350_269_189_625_8;
+            &[(-G, 1.0), (G, 1.0)]
+        };
+        pts.iter()
+            .map(|&(xi, w)| ([0.5 * (1.0 - xi), 0.5 * (1.0 + xi), 0.0], w))
+            .collect()
+    } else {
+        let pts: &[([Real; 2], Real)] = if order == 1 {
+            &[([1.0 / 3.0, 1.0 / 3.0], 0.5)]
+        } else {
+            &[
+                ([1.0 / 6.0, 1.0 / 6.0], 1.0 / 6.0),
+                ([2.0 / 3.0, 1.0 / 6.0], 1.0 / 6.0),
+                ([1.0 / 6.0, 2.0 / 3.0], 1.0 / 6.0),
+            ]
+        };
+        pts.iter()
+            .map(|&([xi, eta], w)| ([1.0 - xi - eta, xi, eta], w))
+            .collect()
+    }
+}

@@ -1,0 +1,70 @@
+//! The mortar operators `D` and `M` of one pair (Kratos `MortarOperator::
+//! CalculateMortarOperators`, reference §10.2.2).
+
+use super::dual_basis::DualBasis;
+use super::face::MortarFace;
+use super::integration_points::MortarIntegrationPoint;
+use crate::math::Real;
+use nalgebra::DMatrix;
+
+/// The mortar operators of one slave–master pair.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MortarOperators {
+    /// `D(i, j) = Σ w · Φ_i · N_s,j` (slave × slave; diagonal for the pair's own dual basis).
+    pub d: DMatrix<Real>,
+    /// `M(i, j) = Σ w · Φ_i · N_m,j` (slave × master).
+    pub m: DMatrix<Real>,
+}
+
+impl MortarOperators {
+    /// The mapper residual `R = M · v_master − D · v_slave` for one scalar component
+    /// (values in node order).
+    pub fn residual(&self, master_values: &[Real], slave_values: &[Real]) -> Vec<Real> {
+        (0..self.d.nrows())
+            .map(|i| {
+                let mut r = 0.0;
+                for (j, v) in master_values.iter().enumerate() {
+                    r += self.m[(i, j)] * v;
+                }
+                for (j, v) in slave_values.iter().enumerate() {
+                    r -= self.d[(i, j)] * v;
+                }
+                r
+            })
+            .collect()
+    }
+}
+
+/// `D` and `M` integrated over the Gauss points of one pair with `Φ = Ae · N_s` (`basis`) or
+/// `Φ = N_s` (`None`, the standard mortar basis). `N_s` at the slave local coordinates, `N_m`
+/// at the master local coordinates of each point.
+pub fn mortar_operators(
+    slave: &MortarFace<'_>,
+    master: &MortarFace<'_>,
+    points: &[MortarIntegrationPoint],
+    basis: Option<&DualBasis>,
+) -> MortarOperators {
+    let sg = slave.geometry();
+    let mg = master.geometry();
+    let ns_count = sg.kind().n_nodes();
+    let nm_count = mg.kind().n_nodes();
+    let mut d = DMatrix::<Real>::zeros(ns_count, ns_count);
+    let mut m = DMatrix::<Real>::zeros(ns_count, nm_count);
+    for gp in points {
+        let ns = sg.shape_functions(&gp.slave_local);
+        let nm = mg.shape_functions(&gp.master_local);
+        let phi = match basis {
+            Some(b) => b.phi(&ns),
+            None => ns.to_vec(),
+        };
+        for i in 0..ns_count {
+            for j in 0..ns_count {
+                d[(i, j)] += gp.weight * phi[i] * ns[j];
+            }
+            for j in 0..nm_count {
+                m[(i, j)] += gp.weight * phi[i] * nm[j];
+            }
+        }
+    }
+    MortarOperators { d, m }
+}
