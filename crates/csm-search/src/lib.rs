@@ -26,7 +26,7 @@ mod stages;
 pub use error::{Error, ErrorKind};
 pub use setup::{
     CheckGap, Compatibility, ContactType, ObbIntersectionType, OctreeSearchParameters, PairSetup,
-    SearchParameters, SearchSetup, SearchTreeType, parse_setup,
+    SearchParameters, SearchSetup, SearchTreeType, SetupSource, parse_setup,
 };
 pub use stages::*;
 mod pipeline;

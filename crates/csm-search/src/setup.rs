@@ -10,7 +10,7 @@ mod validate;
 pub use parse::parse_setup;
 pub use types::{
     CheckGap, Compatibility, ContactType, ObbIntersectionType, OctreeSearchParameters, PairSetup,
-    SearchParameters, SearchSetup, SearchTreeType,
+    SearchParameters, SearchSetup, SearchTreeType, SetupSource,
 };
 
 #[cfg(test)]
