@@ -36,6 +36,15 @@ Scenes:
                          (reference §20.1): 3D, 18 + 26 nodes, SurfaceCondition3D4N 1..8 (slave
                          plane y = 0) and 9..20 (master cylinder), ids as in the test; no elements
                          (the test sets NODAL_H = 1 by hand).
+  stacked_blocks_rotated two non-matching stacked hexahedral blocks rotated against each other:
+                         upper [-0.5,0.5]^2 x [-1e-4,0.5] (11 x 11 x 5, slave quads) rotated by 17
+                         degrees about the vertical axis x = y = 0, on lower [-0.7,0.7]^2 x
+                         [-0.5,0] (9 x 9 x 4, master quads); penetration 1e-4 (~1e-3 h).
+  cylinder_on_plate_quads a cylinder on a plate (quads): hexahedral lower half of the unit
+                         cylinder of axis along y (y in [-0.8,0.8], 16 layers; cross-section: core
+                         16 x 8 + ring 32 x 3, 32 arc faces), lowest line penetrating 0.005 a
+                         hexahedral plate [-1.2,1.2] x [-1,1] x [-0.3,0] (25 x 21 x 2); slave =
+                         curved-surface quads, master = plate top quads (3D4N).
 """
 import math
 import os
@@ -253,7 +262,10 @@ def half_disc(mesh, yc, h):
     return gmsh_body(mesh, build, 2, "Element2D3N")
 
 
-def hex_block(mesh, x0, x1, y0, y1, z0, z1, nx, ny, nz):
+def hex_block(mesh, x0, x1, y0, y1, z0, z1, nx, ny, nz, angle=0.0):
+    """Structured hexahedral block; with `angle` (radians) its nodes are rotated about the
+    vertical axis x = y = 0 (counter-clockwise seen from +z)."""
+    c, s = math.cos(angle), math.sin(angle)
     ids = {}
     for k in range(nz + 1):
         for j in range(ny + 1):
@@ -261,6 +273,8 @@ def hex_block(mesh, x0, x1, y0, y1, z0, z1, nx, ny, nz):
                 x = x0 + (x1 - x0) * i / nx
                 y = y0 + (y1 - y0) * j / ny
                 z = z0 + (z1 - z0) * k / nz
+                if angle != 0.0:
+                    x, y = c * x - s * y, s * x + c * y
                 ids[i, j, k] = mesh.add_node((x, y, z))
     elems = set()
     for k in range(nz):
@@ -269,6 +283,68 @@ def hex_block(mesh, x0, x1, y0, y1, z0, z1, nx, ny, nz):
                 n = [ids[i, j, k], ids[i + 1, j, k], ids[i + 1, j + 1, k], ids[i, j + 1, k],
                      ids[i, j, k + 1], ids[i + 1, j, k + 1], ids[i + 1, j + 1, k + 1], ids[i, j + 1, k + 1]]
                 elems.add(mesh.add_element("Element3D8N", n))
+    return elems
+
+
+def positive_hex(mesh, nodes):
+    """The hexahedron's node list with positive orientation (bottom face reversed if needed)."""
+    p = [mesh.nodes[n] for n in nodes]
+    if dot(cross(sub(p[1], p[0]), sub(p[3], p[0])), sub(p[4], p[0])) < 0.0:
+        return [nodes[k] for k in (0, 3, 2, 1, 4, 7, 6, 5)]
+    return list(nodes)
+
+
+def half_cylinder_hex(mesh, zc, n, m, a, y0, y1, ny):
+    """Hexahedral lower half of the unit cylinder of axis (x, z) = (0, zc), y in [y0, y1].
+    Cross-section (x, z - zc): a core [-a, a] x [-a, 0] of 2n x n quadrilaterals and a ring of
+    4n x m quadrilaterals blending the core's lower boundary (left side, bottom, right side) into
+    the arc (4n equal angles from (-1, 0) through (0, -1) to (1, 0)); extruded in ny layers."""
+    def arc(t):  # mirror-symmetric, exact at both ends and at the bottom
+        if t > 2 * n:
+            x, z = arc(4 * n - t)
+            return (-x, z)
+        if t == 0:
+            return (-1.0, 0.0)
+        if t == 2 * n:
+            return (0.0, -1.0)
+        th = math.pi * t / (4 * n)
+        return (-math.cos(th), -math.sin(th))
+
+    def core(i, k):
+        return (-a + a * i / n, -a + a * k / n)
+    boundary = [(0, k) for k in range(n, 0, -1)] + [(i, 0) for i in range(2 * n + 1)] + \
+        [(2 * n, k) for k in range(1, n + 1)]
+    pts = {}  # 2D key -> (x, z relative to the axis)
+    for i in range(2 * n + 1):
+        for k in range(n + 1):
+            pts["c", i, k] = core(i, k)
+    key = {}
+    quads = []
+    for i in range(2 * n):
+        for k in range(n):
+            quads.append([("c", i, k), ("c", i + 1, k), ("c", i + 1, k + 1), ("c", i, k + 1)])
+    for t in range(4 * n + 1):
+        key[t, 0] = ("c",) + boundary[t]
+        for r in range(1, m + 1):
+            s = float(r) / m
+            (cx, cz), (ax, az) = core(*boundary[t]), arc(t)
+            key[t, r] = ("r", t, r)
+            pts["r", t, r] = (ax if r == m else (1.0 - s) * cx + s * ax,
+                              az if r == m else (1.0 - s) * cz + s * az)
+    for t in range(4 * n):
+        for r in range(m):
+            quads.append([key[t, r], key[t + 1, r], key[t + 1, r + 1], key[t, r + 1]])
+    ids = {}
+    for j in range(ny + 1):
+        y = y0 + (y1 - y0) * j / ny
+        for q in sorted(pts):
+            x, z = pts[q]
+            ids[q, j] = mesh.add_node((x, y, zc + z))
+    elems = set()
+    for j in range(ny):
+        for q in quads:
+            nodes = [ids[k, j] for k in q] + [ids[k, j + 1] for k in q]
+            elems.add(mesh.add_element("Element3D8N", positive_hex(mesh, nodes)))
     return elems
 
 
@@ -347,6 +423,40 @@ def scene_stacked_blocks(pen=0.0):
     return m
 
 
+ROTATED_ANGLE = math.radians(17.0)
+ROTATED_PEN = 1.0e-4                  # ~1.1e-3 h of the upper block (h = 1/11)
+
+
+def scene_stacked_blocks_rotated():
+    m = Mesh(3)
+    pen = ROTATED_PEN
+    up = hex_block(m, -0.5, 0.5, -0.5, 0.5, -pen, 0.5, 11, 11, 5, angle=ROTATED_ANGLE)
+    lo = hex_block(m, -0.7, 0.7, -0.7, 0.7, -0.5, 0.0, 9, 9, 4)
+    slave = add_conditions(m, contact_faces(m, up, FACES3D, lambda p: all(abs(q[2] + pen) < 1e-12 for q in p)))
+    master = add_conditions(m, top_faces(m, lo, 0.0, FACES3D))
+    m.parts = [("Parts_Slave", [], slave, []), ("Parts_Master", [], master, []),
+               ("Parts_Upper", sorted(up), [], []), ("Parts_Lower", sorted(lo), [], [])]
+    return m
+
+
+CYL_PEN = 0.005                       # penetration of the lowest cylinder line into the plate
+
+
+def scene_cylinder_on_plate_quads():
+    m = Mesh(3)
+    zc = 1.0 - CYL_PEN
+    c = half_cylinder_hex(m, zc, 8, 3, 0.6, -0.8, 0.8, 16)
+    p = hex_block(m, -1.2, 1.2, -1.0, 1.0, -0.3, 0.0, 25, 21, 2)
+
+    def on_arc(pts):
+        return all(abs(math.hypot(q[0], q[2] - zc) - 1.0) < 1e-9 for q in pts) and centroid(pts)[2] < zc - 1e-9
+    slave = add_conditions(m, contact_faces(m, c, FACES3D, on_arc))
+    master = add_conditions(m, top_faces(m, p, 0.0, FACES3D))
+    m.parts = [("Parts_Slave", [], slave, []), ("Parts_Master", [], master, []),
+               ("Parts_Cylinder", sorted(c), [], []), ("Parts_Plate", sorted(p), [], [])]
+    return m
+
+
 def scene_cylinder_on_block_2d():
     m = Mesh(2)
     pen = 0.005
@@ -399,6 +509,8 @@ SCENES = [
     ("cylinder_on_block_2d", scene_cylinder_on_block_2d),
     ("stacked_blocks_pen", lambda: scene_stacked_blocks(1.0e-4)),
     ("plane_cylinder_cpp", scene_plane_cylinder_cpp),
+    ("stacked_blocks_rotated", scene_stacked_blocks_rotated),
+    ("cylinder_on_plate_quads", scene_cylinder_on_plate_quads),
 ]
 
 

@@ -15,7 +15,7 @@ or, when Kratos raised, the same without pairs/nodes/paired_conditions and with
 "error": "<Kratos' message>" (csm must fail as well in kratos mode).
 
 Python path (scenes sphere_on_plate_tri, sphere_on_plate_mixed, stacked_blocks,
-cylinder_on_block_2d, stacked_blocks_pen): the SETUP.json is the `Parameters` of ALMContactProcess. Model part
+cylinder_on_block_2d, stacked_blocks_pen, stacked_blocks_rotated, cylinder_on_plate_quads): the SETUP.json is the `Parameters` of ALMContactProcess. Model part
 "Structure" (buffer 2) with the nodal variables of frictionless ALM contact, ModelPartIO,
 ProcessInfo DOMAIN_SIZE/STEP = 1/TIME = 1/DELTA_TIME = 1, then ExecuteInitialize and
 ExecuteInitializeSolutionStep (timed alone). ALMContactProcess is subclassed only to create the
@@ -79,7 +79,8 @@ SCENES_DIR = "tests/data/scenes"
 VERSION = KM.KratosGlobals.Kernel.Version()
 
 PYTHON_SCENES = [("sphere_on_plate_tri", 3), ("sphere_on_plate_mixed", 3),
-                 ("stacked_blocks", 3), ("cylinder_on_block_2d", 2), ("stacked_blocks_pen", 3)]
+                 ("stacked_blocks", 3), ("cylinder_on_block_2d", 2), ("stacked_blocks_pen", 3),
+                 ("stacked_blocks_rotated", 3), ("cylinder_on_plate_quads", 3)]
 TYPES = ["in_radius", "in_box", "in_radius_with_obb", "in_box_with_obb", "octree_with_obb"]
 CHECKS = ["no_check", "direct_check", "mapping_check"]
 

@@ -169,8 +169,15 @@ pub(crate) fn slave_candidates(
                 }
                 Ok(corner + n * (l / norm))
             };
-            let lo = shifted(&aabb.min)?;
-            let hi = shifted(&aabb.max)?;
+            let (lo, hi) = match cx.compatibility {
+                Compatibility::Kratos => (shifted(&aabb.min)?, shifted(&aabb.max)?),
+                // Robust (Q6 fixed): the slave's bounding box inflated by L on every side, so
+                // the box always has volume and holds every master centre within L of it.
+                Compatibility::Robust => {
+                    let margin = Vector::new(l, l, l);
+                    (aabb.min - margin, aabb.max + margin)
+                }
+            };
             cx.tree
                 .in_box(&lo, &hi, p.allocation_size, &mut found)
                 .map_err(tree_error)?;
