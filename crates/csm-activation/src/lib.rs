@@ -1,8 +1,37 @@
-//! The gap and activation layer of csm (stage 9): mortar NormalGap mapping (the MappingCheck
-//! narrow phase), weighted gap, Simple and Advanced activation.
+//! The gap and activation layer of csm (stage 9): the mortar NormalGap mapping (the
+//! MappingCheck narrow phase, reference §10.2), the explicit weighted gap (§10.3) and the Simple
+//! and Advanced activation (§10.6).
 //!
-//! **Status:** not implemented yet. This crate is an empty placeholder that fixes the
-//! crate's place in the layering; it exports nothing and claims nothing.
+//! * [`normal_gap_process`]: Kratos' `NormalGapProcess` with its `SimpleMortarMapperProcess`:
+//!   nodal mean normals, the exact segmentation of every `INDEX_MAP` entry (entries without
+//!   overlap are removed — this *is* the MappingCheck pruning), the iterated dual-mortar mapping
+//!   of `AUXILIAR_COORDINATES` and `ComputeNormalGap` (`NORMAL_GAP`, sentinel 1e12, Q39).
+//! * [`compute_weighted_gap`]: `ComputeWeightedReaction` for the paired conditions.
+//! * [`compute_active_inactive_nodes`]: `ComputeActiveInactiveNodes` (Simple / Advanced,
+//!   `SetActiveNode` / `SetInactiveNode`, Q24).
+//!
+//! Not reproduced: the Lagrange-multiplier values Kratos writes on activation (Simple's
+//! `ε·A·g·n`, Advanced's predict/correct regression) — csm's results carry no multipliers.
 //!
 //! **Architecture Invariant:** `csm-activation` depends only on `csm-model` and
 //! `csm-geometry`; it never sees trees, the search configuration or files.
+
+mod activation;
+mod error;
+mod mapping;
+mod weighted_gap;
+
+#[cfg(test)]
+mod tests;
+
+pub use activation::{ActivationRule, ActivationSettings, compute_active_inactive_nodes};
+pub use error::Error;
+pub use mapping::{
+    MAPPER_ABSOLUTE_TOLERANCE, MAPPER_MAX_ITERATIONS, MAPPER_RELATIVE_TOLERANCE, MappingReport,
+    MappingSettings, NORMAL_GAP_SENTINEL, RemovedEntry, mean_h, normal_gap_process,
+};
+pub use weighted_gap::{WEIGHTED_GAP_AREA_RATIO, compute_weighted_gap};
+
+/// Re-exported so that callers can choose the segmentation rules without naming
+/// `csm-geometry`.
+pub use csm_geometry::MortarMode;

@@ -251,10 +251,6 @@ pub(super) fn clip_face_face(
     );
 
     // 5. The fan.
-    eprintln!(
-        "DEBUG points {:?} master_inside {:?} slave_inside {:?}",
-        points, master_inside, slave_inside
-    );
     let cells = fan_cells(
         &mut points,
         &frame,

@@ -228,19 +228,6 @@ impl ContactSearch {
         }
         // TO_ERASE is reset on every Contact condition after the clones (§4.1); csm never
         // sets it, so nothing to reset.
-        if setup
-            .pairs
-            .values()
-            .any(|p| p.search.check_gap == CheckGap::MappingCheck)
-        {
-            warnings.push(
-                "check_gap MappingCheck: the mortar NormalGap mapping is not implemented yet, so \
-                 the MappingCheck pruning is not applied: pairs are the broad- and narrow-phase \
-                 candidates accepted by CheckCondition, NORMAL_GAP is not computed (null) and no \
-                 node is activated"
-                    .to_owned(),
-            );
-        }
         Ok(ContactSearch {
             setup,
             parts,
@@ -339,6 +326,11 @@ impl ContactSearch {
             let inverted = pair.params.inverted_search;
             let mut slaves = std::collections::BTreeMap::new();
             let mut nodes: BTreeSet<NodeIdx> = BTreeSet::new();
+            let gaps = if pair.params.check_gap == CheckGap::MappingCheck {
+                model.nodal_data().scalar(ScalarVar::NormalGap, 0)
+            } else {
+                None
+            };
             for c in model.part(pair.sub).conditions() {
                 if model.conditions().flags()[c.index()].is(Flag::SLAVE) == inverted {
                     continue;
@@ -353,9 +345,11 @@ impl ContactSearch {
             }
             for n in nodes {
                 let flags = model.nodes().flags()[n.index()];
-                // NORMAL_GAP is never written by No/DirectCheck, and MappingCheck's mapping is
-                // not implemented yet: null either way.
-                let normal_gap = None;
+                // NORMAL_GAP is never written by No/DirectCheck (null); MappingCheck's 1e12
+                // "not mapped" sentinel is null too.
+                let normal_gap = gaps
+                    .and_then(|g| g.get(n.index()).copied())
+                    .filter(|g| *g != csm_activation::NORMAL_GAP_SENTINEL);
                 result.nodes.insert(
                     node_ids[n.index()],
                     NodeResult {
@@ -581,20 +575,120 @@ fn update_mortar_conditions(
         ))
         .into());
     }
-    // 9. No/DirectCheck with a dynamic search: Kratos subtracts the increment although the
-    // nodes were never moved (Q9); robust mode does not.
-    if let (false, Some(d)) = (moved, &delta)
-        && compatibility == Compatibility::Kratos
-        && p.check_gap != CheckGap::MappingCheck
-    {
-        shift_nodes(model, &sub_nodes, d, -1.0);
+    // 9. MappingCheck: CheckPairing (§10.1) — the mortar mapping prunes the INDEX_MAPs and
+    // gives NORMAL_GAP, then the paired conditions, the weighted gap and the activation.
+    if p.check_gap == CheckGap::MappingCheck {
+        let restore = if moved { delta.as_deref() } else { None };
+        check_pairing(model, pair, &p, compatibility, restore, condition_id)?;
+        return Ok(run_warnings);
     }
-    if let (true, Some(d)) = (moved, &delta) {
-        // MappingCheck restores the coordinates after the mapping (CheckPairing step c).
+    // No/DirectCheck with a dynamic search: Kratos subtracts the increment although the
+    // nodes were never moved (Q9); robust mode does not.
+    if let (Some(d), Compatibility::Kratos) = (&delta, compatibility) {
         shift_nodes(model, &sub_nodes, d, -1.0);
-        compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
     }
     Ok(run_warnings)
+}
+
+/// CheckPairing (§10.1) of MappingCheck, after the search filled the INDEX_MAPs: Advanced sets
+/// `DISTANCE_THRESHOLD` from the mean NODAL_H; NormalGapProcess (`NORMAL_GAP := 1e12`, the
+/// mortar mapping that removes the entries without overlap and erases their paired
+/// conditions); the dynamic shift is undone (`restore`); the unit normals are recomputed;
+/// CreateAuxiliaryConditions for the surviving new entries; ComputeWeightedReaction;
+/// ComputeActiveInactiveNodes.
+fn check_pairing(
+    model: &mut ModelPart,
+    pair: &mut PairSearch,
+    p: &SearchParameters,
+    compatibility: Compatibility,
+    restore: Option<&[Vector]>,
+    condition_id: u32,
+) -> Result<(), Error> {
+    use csm_activation as act;
+    let inverted = p.inverted_search;
+    let sub = pair.sub;
+    let dim = usize::from(pair.instance.dim);
+    let activation_error = |e: act::Error| Error::from(ErrorKind::Model(e.to_string()));
+    let mode = match compatibility {
+        Compatibility::Kratos => act::MortarMode::Kratos,
+        Compatibility::Robust => act::MortarMode::Robust,
+    };
+    if !p.simple_search {
+        let h = act::mean_h(model, sub, inverted);
+        model.process_info_mut().set_number("DISTANCE_THRESHOLD", h);
+    }
+    let distance_threshold = model
+        .process_info()
+        .number("DISTANCE_THRESHOLD")
+        .unwrap_or(1e24);
+    let settings = act::MappingSettings {
+        mode,
+        distance_threshold,
+        inverted,
+        dim,
+    };
+    let report = act::normal_gap_process(model, sub, &settings).map_err(activation_error)?;
+    // TO_ERASE: the paired conditions of removed entries (kept from an earlier step) go.
+    if report.removed.iter().any(|r| r.paired.is_some()) {
+        let erased: BTreeSet<u32> = report
+            .removed
+            .iter()
+            .filter_map(|r| r.paired.map(ConditionId::get))
+            .collect();
+        pair.paired.retain(|pc| !erased.contains(&pc.id.get()));
+    }
+    let sub_nodes = model.part(sub).nodes().to_vec();
+    if let Some(d) = restore {
+        shift_nodes(model, &sub_nodes, d, -1.0);
+    }
+    let normals_mode = match compatibility {
+        Compatibility::Kratos => NormalsMode::Kratos,
+        Compatibility::Robust => NormalsMode::Once,
+    };
+    compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
+    // CreateAuxiliaryConditions: slave side, entries without a paired condition.
+    if p.create_auxiliar_conditions {
+        let mut created = Vec::new();
+        for s in conditions_by_id(model, sub) {
+            if model.conditions().flags()[s.index()].is(Flag::SLAVE) == inverted {
+                continue;
+            }
+            for (master, paired) in model.index_map(s).iter() {
+                if paired.is_none()
+                    && let Some(m) = model.conditions().index_of(master.get())
+                {
+                    created.push((s, ConditionIdx(m as u32)));
+                }
+            }
+        }
+        finish_pairs(model, pair, created, condition_id);
+    }
+    let paired: Vec<_> = pair.paired.iter().map(|pc| (pc.slave, pc.master)).collect();
+    act::compute_weighted_gap(model, sub, &paired, mode, distance_threshold, dim)
+        .map_err(activation_error)?;
+    let rule = if p.simple_search {
+        act::ActivationRule::Simple
+    } else {
+        act::ActivationRule::Advanced {
+            static_check_movement: p.static_check_movement,
+            consider_gap_threshold: p.consider_gap_threshold,
+            distance_threshold,
+            active_check_factor: model
+                .process_info()
+                .number("ACTIVE_CHECK_FACTOR")
+                .unwrap_or(0.0),
+        }
+    };
+    act::compute_active_inactive_nodes(
+        model,
+        sub,
+        &act::ActivationSettings {
+            rule,
+            inverted,
+            keep_gap_on_inactive: compatibility == Compatibility::Robust,
+        },
+    );
+    Ok(())
 }
 
 /// Swaps the roles of the conditions of `sub` for an inverted octree search: SLAVE := not

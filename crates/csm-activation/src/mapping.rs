@@ -1,0 +1,416 @@
+//! NormalGapProcess and the explicit dual-mortar mapper (reference §10.1 a–b, §10.2).
+
+use csm_geometry::Geometry;
+use csm_geometry::math::{EPS, Point, Real, Vector, norm_kratos};
+use csm_geometry::{
+    MortarFace, MortarMode, MortarOperators, OperatorSettings, SegmentationSettings, dual_basis,
+    exact_segmentation, integration_points, mortar_operators,
+};
+use csm_model::{
+    ConditionId, ConditionIdx, Flag, ModelPart, NodeIdx, PartIdx, ScalarVar, VectorVar,
+};
+
+use crate::error::Error;
+
+/// `NORMAL_GAP` before the mapping (CheckPairing step a): a slave node nothing was mapped onto
+/// keeps it.
+pub const NORMAL_GAP_SENTINEL: Real = 1e12;
+/// The mapper's absolute convergence tolerance on `sqrt(Σ VAUX²) / n`.
+pub const MAPPER_ABSOLUTE_TOLERANCE: Real = 1e-9;
+/// The mapper's relative (to the first residual) and increment tolerance.
+pub const MAPPER_RELATIVE_TOLERANCE: Real = 1e-4;
+/// The mapper's iteration limit.
+pub const MAPPER_MAX_ITERATIONS: usize = 10;
+/// A slave node is updated only if `|NODAL_AREA| > AREA_TOLERANCE · ref_area`.
+const AREA_TOLERANCE: Real = 1e-4;
+
+/// Settings of [`normal_gap_process`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MappingSettings {
+    /// Kratos' rules or the robust segmentation.
+    pub mode: MortarMode,
+    /// `ProcessInfo[DISTANCE_THRESHOLD]` (1e24 when absent).
+    pub distance_threshold: Real,
+    /// The search's `inverted_search` (the orientation of NormalGapProcess is `!inverted`).
+    pub inverted: bool,
+    /// The domain size (2 or 3): the number of mapped components.
+    pub dim: usize,
+}
+
+/// An `INDEX_MAP` entry the mapping removed (no overlap).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RemovedEntry {
+    /// The slave-side condition.
+    pub slave: ConditionIdx,
+    /// The master condition id (the key removed).
+    pub master: ConditionId,
+    /// The paired condition of the entry, if one existed (Kratos marks it TO_ERASE).
+    pub paired: Option<ConditionId>,
+}
+
+/// What [`normal_gap_process`] did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MappingReport {
+    /// The entries removed from the `INDEX_MAP`s, in slave id then master id order.
+    pub removed: Vec<RemovedEntry>,
+    /// The entries kept (pairs with an overlap).
+    pub kept: usize,
+    /// Mapper iterations run.
+    pub iterations: usize,
+}
+
+/// The slave and master sides of a ContactSub (Kratos' `SlaveSubModelPart` /
+/// `MasterSubModelPart`, §5.1): entities with `SLAVE != inverted`, resp. `MASTER != inverted`.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Sides {
+    pub slave_conditions: Vec<ConditionIdx>,
+    pub master_conditions: Vec<ConditionIdx>,
+    pub slave_nodes: Vec<NodeIdx>,
+    pub master_nodes: Vec<NodeIdx>,
+}
+
+pub(crate) fn sides(model: &ModelPart, sub: PartIdx, inverted: bool) -> Sides {
+    let ids = model.conditions().ids();
+    let mut conditions = model.part(sub).conditions().to_vec();
+    conditions.sort_by_key(|c| ids[c.index()]);
+    let cflags = model.conditions().flags();
+    let nflags = model.nodes().flags();
+    let nodes = model.part(sub).nodes();
+    Sides {
+        slave_conditions: conditions
+            .iter()
+            .copied()
+            .filter(|c| cflags[c.index()].is(Flag::SLAVE) != inverted)
+            .collect(),
+        master_conditions: conditions
+            .iter()
+            .copied()
+            .filter(|c| cflags[c.index()].is(Flag::MASTER) != inverted)
+            .collect(),
+        slave_nodes: nodes
+            .iter()
+            .copied()
+            .filter(|n| nflags[n.index()].is(Flag::SLAVE) != inverted)
+            .collect(),
+        master_nodes: nodes
+            .iter()
+            .copied()
+            .filter(|n| nflags[n.index()].is(Flag::MASTER) != inverted)
+            .collect(),
+    }
+}
+
+/// Σ NODAL_H / count over `nodes` (0 for none).
+fn mean_nodal_h(model: &ModelPart, nodes: &[NodeIdx]) -> Real {
+    let Some(h) = model.nodal_data().scalar(ScalarVar::NodalH, 0) else {
+        return 0.0;
+    };
+    if nodes.is_empty() {
+        return 0.0;
+    }
+    nodes.iter().map(|n| h[n.index()]).sum::<Real>() / nodes.len() as Real
+}
+
+/// The Advanced search's `DISTANCE_THRESHOLD` (§10.1): `max(mean NODAL_H of the slave side,
+/// mean NODAL_H of the master side)` of ContactSub `sub`.
+pub fn mean_h(model: &ModelPart, sub: PartIdx, inverted: bool) -> Real {
+    let s = sides(model, sub, inverted);
+    mean_nodal_h(model, &s.slave_nodes).max(mean_nodal_h(model, &s.master_nodes))
+}
+
+/// Geometry points, condition normal and nodal (historical) normals of a condition.
+pub(crate) struct FaceData {
+    pub points: Vec<Point>,
+    pub normal: Vector,
+    pub nodal_normals: Vec<Vector>,
+}
+
+pub(crate) fn face_data(model: &ModelPart, c: ConditionIdx) -> FaceData {
+    let nodes = model.conditions().nodes(c.index());
+    let mut points = Vec::new();
+    model.gather_points(nodes, &mut points);
+    let normals = model.nodal_data().vector(VectorVar::Normal, 0);
+    let nodal_normals = nodes
+        .iter()
+        .map(|n| normals.map_or(Vector::zeros(), |col| col[n.index()]))
+        .collect();
+    FaceData {
+        points,
+        normal: model.condition_normals()[c.index()],
+        nodal_normals,
+    }
+}
+
+pub(crate) fn make_face<'a>(
+    model: &ModelPart,
+    c: ConditionIdx,
+    data: &'a FaceData,
+) -> Result<MortarFace<'a>, Error> {
+    let id = model.conditions().ids()[c.index()];
+    let kind = model.conditions().kind(c.index());
+    let wrap = |e: csm_geometry::Error| Error::condition("mortar face", id, &e);
+    Geometry::new(kind, &data.points)
+        .and_then(|g| MortarFace::new(g, data.normal))
+        .and_then(|f| f.with_nodal_normals(&data.nodal_normals))
+        .map_err(wrap)
+}
+
+/// `ComputeNodesMeanNormalModelPart` of one side: nodal NORMAL := 0 on the nodes of its
+/// conditions, condition normal := unit normal at the centre, every node accumulates the unit
+/// normal at its own local coordinates, then one normalisation (norm > eps).
+fn mean_normals(model: &mut ModelPart, conditions: &[ConditionIdx]) -> Result<(), Error> {
+    model.nodal_data_mut().add_vector(VectorVar::Normal);
+    let mut sums: Vec<(NodeIdx, Vector)> = Vec::new();
+    let mut index = std::collections::HashMap::new();
+    let mut cond_normals = Vec::with_capacity(conditions.len());
+    let mut points = Vec::new();
+    for &c in conditions {
+        let kind = model.conditions().kind(c.index());
+        let id = model.conditions().ids()[c.index()];
+        let nodes = model.conditions().nodes(c.index());
+        model.gather_points(nodes, &mut points);
+        let wrap = |e: csm_geometry::Error| Error::condition("unit normal", id, &e);
+        let g = Geometry::new(kind, &points).map_err(wrap)?;
+        let at = |p: &Point| -> Result<Vector, csm_geometry::Error> {
+            g.unit_normal(&g.point_local_coordinates(p)?)
+        };
+        cond_normals.push((c, at(&g.center()).map_err(wrap)?));
+        for (n, p) in nodes.iter().zip(&points) {
+            let v = at(p).map_err(wrap)?;
+            let slot = *index.entry(*n).or_insert_with(|| {
+                sums.push((*n, Vector::zeros()));
+                sums.len() - 1
+            });
+            sums[slot].1 += v;
+        }
+    }
+    for (c, n) in cond_normals {
+        model.condition_normals_mut()[c.index()] = n;
+    }
+    if let Some(col) = model.nodal_data_mut().vector_mut(VectorVar::Normal, 0) {
+        for (n, v) in sums {
+            let norm = norm_kratos(&v);
+            col[n.index()] = if norm > EPS { v / norm } else { v };
+        }
+    }
+    Ok(())
+}
+
+/// One pair with an overlap: its operators.
+struct MappedPair {
+    slave_nodes: Vec<NodeIdx>,
+    master_nodes: Vec<NodeIdx>,
+    operators: MortarOperators,
+}
+
+/// Kratos' `NormalGapProcess` (§10.1 a–b, §10.2) on ContactSub `sub`, after the search filled
+/// the slave side's `INDEX_MAP`s:
+///
+/// 1. `NORMAL_GAP := 1e12` on every node of `sub`; `AUXILIAR_COORDINATES` := coordinates on the
+///    master side (0 on the slave side; the other way round when inverted);
+/// 2. nodal mean normals (master side, then slave side: shared nodes take the slave value) —
+///    this overwrites the historical `NORMAL` and the condition normals (Q23);
+/// 3. the exact segmentation of every `INDEX_MAP` entry: entries without overlap are removed
+///    (MappingCheck's narrow phase); dual basis and `D`, `M` operators for the others;
+/// 4. the explicit mapping iterations of `AUXILIAR_COORDINATES` (`NODAL_AREA` from the first);
+/// 5. `ComputeNormalGap`: on nodes with `SLAVE == !inverted`, `NORMAL_GAP = (X − AUX)·(−n)`
+///    where `|AUX| > eps` (else the sentinel stays, Q39); the other side's nodes get 0.
+///
+/// Errors: a face the mortar routines refuse (unsupported kind, degenerate geometry).
+pub fn normal_gap_process(
+    model: &mut ModelPart,
+    sub: PartIdx,
+    settings: &MappingSettings,
+) -> Result<MappingReport, Error> {
+    let o = !settings.inverted;
+    let dim = settings.dim.clamp(1, 3);
+    let s = sides(model, sub, settings.inverted);
+    let n_nodes = model.nodes().len();
+    // 1. Sentinel and AUXILIAR_COORDINATES.
+    {
+        let sub_nodes = model.part(sub).nodes().to_vec();
+        let data = model.nodal_data_mut();
+        data.add_scalar(ScalarVar::NormalGap);
+        data.add_scalar(ScalarVar::NodalArea);
+        data.add_vector(VectorVar::AuxiliarCoordinates);
+        if let Some(col) = data.scalar_mut(ScalarVar::NormalGap, 0) {
+            for n in &sub_nodes {
+                col[n.index()] = NORMAL_GAP_SENTINEL;
+            }
+        }
+    }
+    let coords = model.nodes().coordinates().to_vec();
+    let mut aux = model
+        .nodal_data()
+        .vector(VectorVar::AuxiliarCoordinates, 0)
+        .map_or_else(|| vec![Vector::zeros(); n_nodes], <[Vector]>::to_vec);
+    for n in &s.master_nodes {
+        aux[n.index()] = if o {
+            coords[n.index()].coords
+        } else {
+            Vector::zeros()
+        };
+    }
+    for n in &s.slave_nodes {
+        aux[n.index()] = if o {
+            Vector::zeros()
+        } else {
+            coords[n.index()].coords
+        };
+    }
+    // 2. Mean normals: origin (master side) first, destination (slave side) second.
+    mean_normals(model, &s.master_conditions)?;
+    mean_normals(model, &s.slave_conditions)?;
+    // Destination reset.
+    for n in &s.slave_nodes {
+        aux[n.index()] = Vector::zeros();
+    }
+    let mut area = vec![0.0; n_nodes];
+    let mut ref_area: Real = 0.0;
+    let mut points = Vec::new();
+    for &c in s.master_conditions.iter().chain(&s.slave_conditions) {
+        let id = model.conditions().ids()[c.index()];
+        model.gather_points(model.conditions().nodes(c.index()), &mut points);
+        let a = Geometry::new(model.conditions().kind(c.index()), &points)
+            .and_then(|g| g.area())
+            .map_err(|e| Error::condition("area", id, &e))?;
+        ref_area = ref_area.max(a);
+    }
+    // 3. Segmentation of every INDEX_MAP entry.
+    let seg_settings = SegmentationSettings {
+        mode: settings.mode,
+        distance_threshold: settings.distance_threshold,
+    };
+    let op_settings = OperatorSettings::mapper();
+    let mut report = MappingReport::default();
+    let mut pairs = Vec::new();
+    for &sc in &s.slave_conditions {
+        let entries: Vec<(ConditionId, Option<ConditionId>)> = model.index_map(sc).iter().collect();
+        if entries.is_empty() {
+            continue;
+        }
+        let sdata = face_data(model, sc);
+        let slave = make_face(model, sc, &sdata)?;
+        let slave_id = model.conditions().ids()[sc.index()];
+        for (master_id, paired) in entries {
+            let Some(mc) = model
+                .conditions()
+                .index_of(master_id.get())
+                .map(|i| ConditionIdx(u32::try_from(i).expect("condition index fits u32")))
+            else {
+                continue;
+            };
+            let mdata = face_data(model, mc);
+            let master = make_face(model, mc, &mdata)?;
+            let seg = exact_segmentation(&slave, &master, &seg_settings)
+                .map_err(|e| Error::condition("mortar segmentation", slave_id, &e))?;
+            let Some(seg) = seg.filter(|g| !g.cells().is_empty()) else {
+                report.removed.push(RemovedEntry {
+                    slave: sc,
+                    master: master_id,
+                    paired,
+                });
+                continue;
+            };
+            let gps = integration_points(&slave, &master, &seg, &op_settings)
+                .map_err(|e| Error::condition("mortar integration", slave_id, &e))?;
+            let basis = dual_basis(&slave, &gps);
+            let operators = mortar_operators(&slave, &master, &gps, Some(&basis));
+            pairs.push(MappedPair {
+                slave_nodes: model.conditions().nodes(sc.index()).to_vec(),
+                master_nodes: model.conditions().nodes(mc.index()).to_vec(),
+                operators,
+            });
+        }
+    }
+    for r in &report.removed {
+        model.index_map_mut(r.slave).remove_id(r.master);
+    }
+    report.kept = pairs.len();
+    // 4. The explicit mapping iterations.
+    let n_d = s.slave_nodes.len().max(1) as Real;
+    let mut r0: [Real; 3] = [0.0; 3];
+    let mut r_prev: [Real; 3] = [0.0; 3];
+    let mut iteration = 0;
+    // Kratos' per-component flags are sticky: a component converged once stays converged.
+    let mut component_converged = [pairs.is_empty(); 3];
+    let mut converged = pairs.is_empty();
+    let mut vaux = vec![Vector::zeros(); n_nodes];
+    while !converged && iteration < MAPPER_MAX_ITERATIONS {
+        for n in s.master_nodes.iter().chain(&s.slave_nodes) {
+            vaux[n.index()] = Vector::zeros();
+        }
+        for p in &pairs {
+            for k in 0..dim {
+                let mv: Vec<Real> = p.master_nodes.iter().map(|n| aux[n.index()][k]).collect();
+                let sv: Vec<Real> = p.slave_nodes.iter().map(|n| aux[n.index()][k]).collect();
+                let r = p.operators.residual(&mv, &sv);
+                for (i, n) in p.slave_nodes.iter().enumerate() {
+                    vaux[n.index()][k] += r[i];
+                }
+            }
+            if iteration == 0 {
+                for (i, n) in p.slave_nodes.iter().enumerate() {
+                    area[n.index()] += p.operators.d[(i, i)];
+                }
+            }
+        }
+        let mut sums = [0.0; 3];
+        for n in &s.slave_nodes {
+            let i = n.index();
+            if area[i].abs() > AREA_TOLERANCE * ref_area {
+                for k in 0..dim {
+                    aux[i][k] += vaux[i][k] / area[i];
+                }
+            }
+            for (k, sum) in sums.iter_mut().enumerate().take(dim) {
+                *sum += vaux[i][k] * vaux[i][k];
+            }
+        }
+        for k in 0..dim {
+            let r = sums[k].sqrt() / n_d;
+            if iteration == 0 {
+                r0[k] = r;
+            }
+            let ok = r < MAPPER_ABSOLUTE_TOLERANCE
+                || r / r0[k] < MAPPER_RELATIVE_TOLERANCE
+                || (iteration > 0
+                    && ((r - r_prev[k]) / r_prev[k]).abs() < MAPPER_RELATIVE_TOLERANCE);
+            r_prev[k] = r;
+            component_converged[k] |= ok;
+        }
+        converged = component_converged[..dim].iter().all(|c| *c);
+        iteration += 1;
+    }
+    report.iterations = iteration;
+    // 5. ComputeNormalGap (master side, then slave side).
+    let normals = model
+        .nodal_data()
+        .vector(VectorVar::Normal, 0)
+        .map(<[Vector]>::to_vec)
+        .unwrap_or_default();
+    let nflags = model.nodes().flags().to_vec();
+    let data = model.nodal_data_mut();
+    if let Some(col) = data.scalar_mut(ScalarVar::NormalGap, 0) {
+        for n in s.master_nodes.iter().chain(&s.slave_nodes) {
+            let i = n.index();
+            if nflags[i].is(Flag::SLAVE) == o {
+                if norm_kratos(&aux[i]) > EPS {
+                    let normal = normals.get(i).copied().unwrap_or_else(Vector::zeros);
+                    col[i] = (coords[i].coords - aux[i]).dot(&(-normal));
+                }
+            } else {
+                col[i] = 0.0;
+            }
+        }
+    }
+    if let Some(col) = data.scalar_mut(ScalarVar::NodalArea, 0) {
+        for n in &s.slave_nodes {
+            col[n.index()] = area[n.index()];
+        }
+    }
+    if let Some(col) = data.vector_mut(VectorVar::AuxiliarCoordinates, 0) {
+        col.copy_from_slice(&aux);
+    }
+    Ok(report)
+}

@@ -1,0 +1,216 @@
+use csm_geometry::GeometryKind;
+use csm_geometry::math::Point;
+use csm_model::{
+    ConditionId, ConditionIdx, Flag, ModelPart, NodeId, PartIdx, PropertiesId, ScalarVar,
+    compute_unit_normals,
+};
+
+use super::*;
+
+/// A unit slave square at z = 0 (normal +z, condition 1) and two master squares at z = gap
+/// (normal −z): condition 2 over the slave (shifted by 0.25 in x), condition 3 far away.
+fn scene(gap: f64) -> (ModelPart, PartIdx) {
+    let mut m = ModelPart::new("Structure");
+    let pts = [
+        (1, 0.0, 0.0, 0.0),
+        (2, 1.0, 0.0, 0.0),
+        (3, 1.0, 1.0, 0.0),
+        (4, 0.0, 1.0, 0.0),
+        (5, 0.25, 0.0, gap),
+        (6, 1.25, 0.0, gap),
+        (7, 1.25, 1.0, gap),
+        (8, 0.25, 1.0, gap),
+        (9, 5.0, 0.0, gap),
+        (10, 6.0, 0.0, gap),
+        (11, 6.0, 1.0, gap),
+        (12, 5.0, 1.0, gap),
+    ];
+    for (id, x, y, z) in pts {
+        m.add_node(NodeId(id), Point::new(x, y, z)).unwrap();
+    }
+    let k = GeometryKind::Quadrilateral3D4;
+    let p = PropertiesId(0);
+    let s = m
+        .add_condition(
+            ConditionId(1),
+            k,
+            "c",
+            &[NodeId(1), NodeId(2), NodeId(3), NodeId(4)],
+            p,
+        )
+        .unwrap();
+    let c2 = m
+        .add_condition(
+            ConditionId(2),
+            k,
+            "c",
+            &[NodeId(5), NodeId(8), NodeId(7), NodeId(6)],
+            p,
+        )
+        .unwrap();
+    let c3 = m
+        .add_condition(
+            ConditionId(3),
+            k,
+            "c",
+            &[NodeId(9), NodeId(12), NodeId(11), NodeId(10)],
+            p,
+        )
+        .unwrap();
+    let sub = m.create_part("Contact.ContactSub0").unwrap();
+    let all_nodes: Vec<_> = (0..12).map(csm_model::NodeIdx).collect();
+    m.add_nodes_to_part(sub, &all_nodes);
+    m.add_conditions_to_part(sub, &[s, c2, c3]);
+    for (i, n) in all_nodes.iter().enumerate() {
+        let f = &mut m.nodes_mut().flags_mut()[n.index()];
+        f.set(Flag::SLAVE, i < 4);
+        f.set(Flag::MASTER, i >= 4);
+    }
+    for c in [s, c2, c3] {
+        let f = &mut m.conditions_mut().flags_mut()[c.index()];
+        f.set(Flag::SLAVE, c == s);
+        f.set(Flag::MASTER, c != s);
+    }
+    m.nodal_data_mut().add_scalar(ScalarVar::NodalH);
+    m.nodal_data_mut()
+        .scalar_mut(ScalarVar::NodalH, 0)
+        .unwrap()
+        .fill(1.0);
+    compute_unit_normals(&mut m, Some(sub), csm_model::NormalsMode::Once).unwrap();
+    m.index_map_mut(s).add_id(ConditionId(2));
+    m.index_map_mut(s).add_id(ConditionId(3));
+    (m, sub)
+}
+
+fn settings() -> MappingSettings {
+    MappingSettings {
+        mode: MortarMode::Kratos,
+        distance_threshold: 1e24,
+        inverted: false,
+        dim: 3,
+    }
+}
+
+#[test]
+fn mapping_prunes_the_far_master_and_maps_the_gap() {
+    let (mut m, sub) = scene(0.01);
+    let r = normal_gap_process(&mut m, sub, &settings()).unwrap();
+    assert_eq!(r.kept, 1);
+    assert_eq!(r.removed.len(), 1);
+    assert_eq!(r.removed[0].master, ConditionId(3));
+    let keys: Vec<_> = m.index_map(ConditionIdx(0)).masters().collect();
+    assert_eq!(keys, vec![ConditionId(2)]);
+    assert!(r.iterations >= 1 && r.iterations <= MAPPER_MAX_ITERATIONS);
+    let gap = m.nodal_data().scalar(ScalarVar::NormalGap, 0).unwrap();
+    // Nodes 2 and 3 (x = 1) lie under the master; nodes 1 and 4 (x = 0) are covered only by
+    // the dual basis' support: every slave node gets a mapped point (dual basis of a partial
+    // overlap), with the gap of the flat interface.
+    for (i, g) in gap[..4].iter().enumerate() {
+        assert!(
+            (g - 0.01).abs() < 1e-9 || *g == NORMAL_GAP_SENTINEL,
+            "{i}: {g}"
+        );
+    }
+    assert!((gap[1] - 0.01).abs() < 1e-9, "{}", gap[1]);
+    // Master-side nodes get 0.
+    assert!(gap[4..].iter().all(|g| *g == 0.0));
+    let area = m.nodal_data().scalar(ScalarVar::NodalArea, 0).unwrap();
+    assert!((area[..4].iter().sum::<f64>() - 0.75).abs() < 1e-12);
+}
+
+#[test]
+fn without_masters_every_slave_node_keeps_the_sentinel() {
+    let (mut m, sub) = scene(0.01);
+    m.index_map_mut(ConditionIdx(0)).remove_id(ConditionId(2));
+    let r = normal_gap_process(&mut m, sub, &settings()).unwrap();
+    assert_eq!(r.kept, 0);
+    let gap = m.nodal_data().scalar(ScalarVar::NormalGap, 0).unwrap();
+    assert!(gap[..4].iter().all(|g| *g == NORMAL_GAP_SENTINEL));
+}
+
+#[test]
+fn simple_activation_uses_the_gap_threshold_and_zeroes_inactive_gaps() {
+    let act = ActivationSettings {
+        rule: ActivationRule::Simple,
+        inverted: false,
+        keep_gap_on_inactive: false,
+    };
+    // Penetration: active, gap kept.
+    let (mut m, sub) = scene(-0.01);
+    normal_gap_process(&mut m, sub, &settings()).unwrap();
+    compute_active_inactive_nodes(&mut m, sub, &act);
+    assert!(m.nodes().flags()[1].is(Flag::ACTIVE));
+    assert!(m.nodes().flags()[1].is(Flag::MARKER));
+    let gap = m.nodal_data().scalar(ScalarVar::NormalGap, 0).unwrap();
+    assert!((gap[1] + 0.01).abs() < 1e-9);
+    // Open gap 0.01 > 2e-3 · 1: inactive, gap 0 (Q24); robust keeps it.
+    let (mut m, sub) = scene(0.01);
+    normal_gap_process(&mut m, sub, &settings()).unwrap();
+    compute_active_inactive_nodes(&mut m, sub, &act);
+    assert!(!m.nodes().flags()[1].is(Flag::ACTIVE));
+    assert_eq!(
+        m.nodal_data().scalar(ScalarVar::NormalGap, 0).unwrap()[1],
+        0.0
+    );
+    let (mut m, sub) = scene(0.01);
+    normal_gap_process(&mut m, sub, &settings()).unwrap();
+    let robust = ActivationSettings {
+        keep_gap_on_inactive: true,
+        ..act
+    };
+    compute_active_inactive_nodes(&mut m, sub, &robust);
+    assert!((m.nodal_data().scalar(ScalarVar::NormalGap, 0).unwrap()[1] - 0.01).abs() < 1e-9);
+}
+
+#[test]
+fn advanced_activation_uses_distance_threshold_times_active_check_factor() {
+    let rule = |dt: f64| ActivationSettings {
+        rule: ActivationRule::Advanced {
+            static_check_movement: false,
+            consider_gap_threshold: false,
+            distance_threshold: dt,
+            active_check_factor: 0.01,
+        },
+        inverted: false,
+        keep_gap_on_inactive: false,
+    };
+    // L = 0.1 · 0.01 = 0.001 < 0.005: inactive.
+    let (mut m, sub) = scene(0.005);
+    normal_gap_process(&mut m, sub, &settings()).unwrap();
+    compute_active_inactive_nodes(&mut m, sub, &rule(0.1));
+    assert!(!m.nodes().flags()[1].is(Flag::ACTIVE));
+    // L = 1 · 0.01 > 0.005: active.
+    let (mut m, sub) = scene(0.005);
+    normal_gap_process(&mut m, sub, &settings()).unwrap();
+    assert_eq!(compute_active_inactive_nodes(&mut m, sub, &rule(1.0)), 4);
+    assert!(m.nodes().flags()[1].is(Flag::ACTIVE));
+}
+
+#[test]
+fn weighted_gap_of_a_flat_pair_is_gap_times_area() {
+    let (mut m, sub) = scene(0.01);
+    m.nodal_data_mut().add_scalar(ScalarVar::WeightedGap);
+    compute_weighted_gap(
+        &mut m,
+        sub,
+        &[(ConditionIdx(0), ConditionIdx(1))],
+        MortarMode::Kratos,
+        1e24,
+        3,
+    )
+    .unwrap();
+    let wg = m.nodal_data().scalar(ScalarVar::WeightedGap, 0).unwrap();
+    // Σ_i wg_i = gap · overlap area for a flat interface (D, M rows sum to the overlap).
+    assert!(
+        (wg[..4].iter().sum::<f64>() - 0.01 * 0.75).abs() < 1e-12,
+        "{wg:?}"
+    );
+}
+
+#[test]
+fn advanced_distance_threshold_is_the_larger_mean_nodal_h() {
+    let (mut m, sub) = scene(0.01);
+    let h = m.nodal_data_mut().scalar_mut(ScalarVar::NodalH, 0).unwrap();
+    h[..4].fill(2.0);
+    assert_eq!(mean_h(&m, sub, false), 2.0);
+}
