@@ -4,6 +4,8 @@
 //! Every check_gap: pair sets, ACTIVE flags and the number of paired conditions must be
 //! identical. MappingCheck also compares NORMAL_GAP per slave node (relative 1e-9; null —
 //! never mapped — must match null).
+//! csm runs every fixture with one and with two threads, and the two results must be
+//! identical.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -99,14 +101,32 @@ fn normal_gap_difference(scene: &str, kratos: &Value, ours: &Value) -> Option<St
     None
 }
 
-/// Runs csm on a fixture's mesh and setup; `Err` carries csm's message.
-fn run_csm(fixture: &Value) -> Result<Value, String> {
+/// Runs csm on a fixture's mesh and setup with `threads` worker threads; `Err` carries csm's
+/// message.
+fn run_csm_threads(fixture: &Value, threads: usize) -> Result<Value, String> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mesh = root.join(fixture["mesh"].as_str().expect("mesh path"));
     let mut model = csm::io::read_mesh(&mesh).map_err(|e| e.to_string())?;
     let setup = csm::cli::load_setup(&fixture["setup"].to_string(), "fixture setup")?;
-    let (result, _) = csm::cli::run_search(&mut model, &setup, 0.0)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool");
+    let (result, _) = pool.install(|| csm::cli::run_search(&mut model, &setup, 0.0))?;
     Ok(result.to_json(&[]))
+}
+
+/// Runs csm on a fixture with one and with two threads; the two results (timings aside) must be
+/// identical, else `Err` says where they differ.
+fn run_csm(fixture: &Value) -> Result<Value, String> {
+    let one = run_csm_threads(fixture, 1)?;
+    let two = run_csm_threads(fixture, 2)?;
+    for key in ["pairs", "nodes", "paired_conditions", "warnings"] {
+        if one[key] != two[key] {
+            return Err(format!("`{key}` differs between 1 and 2 threads"));
+        }
+    }
+    Ok(two)
 }
 
 fn check_gap(fixture: &Value) -> &'static str {
@@ -329,4 +349,70 @@ fn generated_interface_conditions_match_kratos() {
         checked >= 4,
         "expected the interface fixtures of the Kratos meshes, found {checked}"
     );
+}
+
+/// The expectations of Kratos' C++ unit tests `test_search_process.cpp` (reference §20.1),
+/// written out here from the test rather than read from the fixture: the INDEX_MAP of every
+/// slave of the plane–cylinder strip for InRadius and for the OBB variants, and — from the
+/// fixture calibration — exactly the two slave nodes 1 and 2 active, with NORMAL_GAP
+/// −0.0011945660046527.
+#[test]
+fn plane_cylinder_unit_test_expectations() {
+    let dir =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/search/plane_cylinder_cpp");
+    let radius: [&[u64]; 8] = [
+        &[9, 10],
+        &[10, 11],
+        &[11, 12],
+        &[12, 13, 14],
+        &[14, 15],
+        &[15, 16],
+        &[],
+        &[],
+    ];
+    let obb: [&[u64]; 8] = [
+        &[9, 10],
+        &[10, 11],
+        &[11, 12],
+        &[12, 13, 14],
+        &[14],
+        &[],
+        &[],
+        &[],
+    ];
+    for (file, expected) in [
+        ("cpp_in_radius.json", radius),
+        ("cpp_in_radius_with_obb.json", obb),
+        ("cpp_octree_with_obb.json", obb),
+    ] {
+        let fixture: Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join(file)).unwrap()).unwrap();
+        let ours = run_csm(&fixture).unwrap_or_else(|e| panic!("{file}: {e}"));
+        let pairs = &ours["pairs"]["0"];
+        for (slave, masters) in expected.iter().enumerate() {
+            let got: Vec<u64> = pairs[(slave + 1).to_string()]
+                .as_array()
+                .unwrap_or_else(|| panic!("{file}: slave {} missing", slave + 1))
+                .iter()
+                .map(|m| m.as_u64().unwrap())
+                .collect();
+            assert_eq!(&got, masters, "{file}: slave {}", slave + 1);
+        }
+        let active: Vec<(&String, f64)> = ours["nodes"]
+            .as_object()
+            .unwrap()
+            .iter()
+            .filter(|(_, n)| n["active"] == true)
+            .map(|(id, n)| (id, n["normal_gap"].as_f64().unwrap()))
+            .collect();
+        assert_eq!(active.len(), 2, "{file}: {active:?}");
+        for (id, gap) in active {
+            assert!(id == "1" || id == "2", "{file}: node {id} active");
+            let expected = -0.0011945660046527;
+            assert!(
+                (gap - expected).abs() <= 1e-9 * expected.abs(),
+                "{file}: node {id}: {gap}"
+            );
+        }
+    }
 }
