@@ -324,3 +324,23 @@ fn degenerate_2d_cells_are_skipped_by_the_length_check() {
         integration_points(&slave, &master, &seg, &OperatorSettings::explicit()).unwrap();
     assert_eq!(explicit.len(), 2);
 }
+
+#[test]
+fn dual_ae_follows_the_condition_number_not_the_determinant() {
+    use nalgebra::DMatrix;
+    let de = DMatrix::<Real>::identity(4, 4);
+    // det(Me/f) ≈ 1e-17 < ε but condition number ≈ 1e7: dual (Kratos 10.4.4 does the same).
+    let me = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(vec![1.0, 1e-5, 1e-5, 1e-7]));
+    let f: Real = me.norm();
+    let scaled: DMatrix<Real> = &me / f;
+    assert!(scaled.determinant().abs() < crate::math::EPS);
+    let ae = dual_ae(&de, &me).expect("well enough conditioned");
+    assert_close(ae[(3, 3)] * 1e-7, 1.0, 1e-12);
+    // Condition number ≈ 1e12 > 1e-4/ε: standard basis, whatever the determinant.
+    let me = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(vec![1.0, 1.0, 1.0, 1e-12]));
+    assert!(dual_ae(&de, &me).is_none());
+    // Rank-deficient (one triangle cell under a quadrilateral slave) and zero matrices.
+    let v = nalgebra::DVector::from_vec(vec![0.4, 0.3, 0.2, 0.1]);
+    assert!(dual_ae(&de, &(&v * v.transpose())).is_none());
+    assert!(dual_ae(&de, &DMatrix::zeros(4, 4)).is_none());
+}
