@@ -10,8 +10,9 @@
 //! * [`compute_active_inactive_nodes`]: `ComputeActiveInactiveNodes` (Simple / Advanced,
 //!   `SetActiveNode` / `SetInactiveNode`, Q24).
 //!
-//! Not reproduced: the Lagrange-multiplier values Kratos writes on activation (Simple's
-//! `ε·A·g·n`, Advanced's predict/correct regression) — csm's results carry no multipliers.
+//! The Lagrange-multiplier guesses of the activation (Simple's `ε·A·g`, Advanced's
+//! predict/correct regression) are written into the model's nodal data as Kratos writes them;
+//! `RESULT.json` does not carry them. Robust mode guards the NaN/inf cases (Q25, Q26).
 //!
 //! **Architecture Invariant:** `csm-activation` depends only on `csm-model` and
 //! `csm-geometry`; it never sees trees, the search configuration or files.
@@ -19,17 +20,21 @@
 mod activation;
 mod error;
 mod mapping;
+mod multiplier;
 mod weighted_gap;
 
 #[cfg(test)]
 mod tests;
 
-pub use activation::{ActivationRule, ActivationSettings, compute_active_inactive_nodes};
+pub use activation::{
+    ActivationReport, ActivationRule, ActivationSettings, compute_active_inactive_nodes,
+};
 pub use error::Error;
 pub use mapping::{
     MAPPER_ABSOLUTE_TOLERANCE, MAPPER_MAX_ITERATIONS, MAPPER_RELATIVE_TOLERANCE, MappingReport,
     MappingSettings, NORMAL_GAP_SENTINEL, RemovedEntry, mean_h, normal_gap_process,
 };
+pub use multiplier::{MultiplierKind, MultiplierSettings};
 pub use weighted_gap::{WEIGHTED_GAP_AREA_RATIO, compute_weighted_gap};
 
 /// Re-exported so that callers can choose the segmentation rules without naming

@@ -2,7 +2,7 @@ use csm_geometry::GeometryKind;
 use csm_geometry::math::Point;
 use csm_model::{
     ConditionId, ConditionIdx, Flag, ModelPart, NodeId, PartIdx, PropertiesId, ScalarVar,
-    compute_unit_normals,
+    VectorVar, compute_unit_normals,
 };
 
 use super::*;
@@ -134,6 +134,7 @@ fn simple_activation_uses_the_gap_threshold_and_zeroes_inactive_gaps() {
         rule: ActivationRule::Simple,
         inverted: false,
         keep_gap_on_inactive: false,
+        multiplier: MultiplierSettings::default(),
     };
     // Penetration: active, gap kept.
     let (mut m, sub) = scene(-0.01);
@@ -173,6 +174,7 @@ fn advanced_activation_uses_distance_threshold_times_active_check_factor() {
         },
         inverted: false,
         keep_gap_on_inactive: false,
+        multiplier: MultiplierSettings::default(),
     };
     // L = 0.1 · 0.01 = 0.001 < 0.005: inactive.
     let (mut m, sub) = scene(0.005);
@@ -182,7 +184,10 @@ fn advanced_activation_uses_distance_threshold_times_active_check_factor() {
     // L = 1 · 0.01 > 0.005: active.
     let (mut m, sub) = scene(0.005);
     normal_gap_process(&mut m, sub, &settings()).unwrap();
-    assert_eq!(compute_active_inactive_nodes(&mut m, sub, &rule(1.0)), 4);
+    assert_eq!(
+        compute_active_inactive_nodes(&mut m, sub, &rule(1.0)).active,
+        4
+    );
     assert!(m.nodes().flags()[1].is(Flag::ACTIVE));
 }
 
@@ -213,4 +218,197 @@ fn advanced_distance_threshold_is_the_larger_mean_nodal_h() {
     let h = m.nodal_data_mut().scalar_mut(ScalarVar::NodalH, 0).unwrap();
     h[..4].fill(2.0);
     assert_eq!(mean_h(&m, sub, false), 2.0);
+}
+
+fn simple_with(multiplier: MultiplierSettings) -> ActivationSettings {
+    ActivationSettings {
+        rule: ActivationRule::Simple,
+        inverted: false,
+        keep_gap_on_inactive: false,
+        multiplier,
+    }
+}
+
+fn contact_pressure_scene(gap: f64) -> (ModelPart, PartIdx) {
+    let (mut m, sub) = scene(gap);
+    m.nodal_data_mut()
+        .add_scalar(ScalarVar::LagrangeMultiplierContactPressure);
+    normal_gap_process(&mut m, sub, &settings()).unwrap();
+    (m, sub)
+}
+
+#[test]
+fn simple_activation_guesses_the_multiplier_from_the_penalty() {
+    let (mut m, sub) = contact_pressure_scene(-0.01);
+    assert_eq!(MultiplierKind::of(&m), MultiplierKind::NormalContactStress);
+    let ms = MultiplierSettings {
+        kind: MultiplierKind::of(&m),
+        initial_penalty: Some(1.0e3),
+        scale_factor: Some(2.0),
+        ..MultiplierSettings::default()
+    };
+    let r = compute_active_inactive_nodes(&mut m, sub, &simple_with(ms));
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    let data = m.nodal_data();
+    let lm = data
+        .scalar(ScalarVar::LagrangeMultiplierContactPressure, 0)
+        .unwrap();
+    let gap = data.scalar(ScalarVar::NormalGap, 0).unwrap();
+    let area = data.scalar(ScalarVar::NodalArea, 0).unwrap();
+    // Node 2 (index 1) penetrates by 0.01 with a positive nodal area: ε · A · g = 500 · A · g.
+    assert!(gap[1] < 0.0 && area[1] > 0.0);
+    assert!(
+        (lm[1] - 500.0 * area[1] * gap[1]).abs() < 1e-12,
+        "{}",
+        lm[1]
+    );
+    assert!(lm[1] < 0.0);
+    // Masters are not touched.
+    assert!(lm[4..].iter().all(|v| *v == 0.0));
+}
+
+#[test]
+fn a_missing_penalty_gives_kratos_nan_or_a_robust_skip_with_a_warning() {
+    // Kratos: INITIAL_PENALTY / SCALE_FACTOR read as 0 / 0 → NaN multipliers (Q25).
+    let (mut m, sub) = contact_pressure_scene(-0.01);
+    let ms = MultiplierSettings {
+        kind: MultiplierKind::NormalContactStress,
+        ..MultiplierSettings::default()
+    };
+    let r = compute_active_inactive_nodes(&mut m, sub, &simple_with(ms));
+    assert_eq!(r.warnings.len(), 1, "{:?}", r.warnings);
+    assert!(r.warnings[0].contains("NaN"), "{}", r.warnings[0]);
+    let lm = m
+        .nodal_data()
+        .scalar(ScalarVar::LagrangeMultiplierContactPressure, 0)
+        .unwrap();
+    assert!(lm[1].is_nan());
+    // Guarded: skipped, nothing NaN, one warning.
+    let (mut m, sub) = contact_pressure_scene(-0.01);
+    let guarded = MultiplierSettings {
+        guarded: true,
+        ..ms
+    };
+    let r = compute_active_inactive_nodes(&mut m, sub, &simple_with(guarded));
+    assert_eq!(r.warnings.len(), 1, "{:?}", r.warnings);
+    assert!(r.warnings[0].contains("skipped"), "{}", r.warnings[0]);
+    let lm = m
+        .nodal_data()
+        .scalar(ScalarVar::LagrangeMultiplierContactPressure, 0)
+        .unwrap();
+    assert!(lm.iter().all(|v| *v == 0.0), "{lm:?}");
+}
+
+fn advanced_predicting(guarded: bool) -> ActivationSettings {
+    ActivationSettings {
+        rule: ActivationRule::Advanced {
+            static_check_movement: false,
+            consider_gap_threshold: false,
+            distance_threshold: 1.0,
+            active_check_factor: 0.01,
+        },
+        inverted: false,
+        keep_gap_on_inactive: false,
+        multiplier: MultiplierSettings {
+            kind: MultiplierKind::NormalContactStress,
+            predict_correct: true,
+            guarded,
+            ..MultiplierSettings::default()
+        },
+    }
+}
+
+/// Nodes 1 and 2 (indices 0, 1) ACTIVE before with (WEIGHTED_GAP, LM) = (1, −3) and (2, −5):
+/// the regression is LM = −1 − 2 · WEIGHTED_GAP.
+fn regression_scene(active_before: &[usize]) -> (ModelPart, PartIdx) {
+    let (mut m, sub) = contact_pressure_scene(0.005);
+    m.nodal_data_mut().add_scalar(ScalarVar::WeightedGap);
+    let data = m.nodal_data_mut();
+    let wg = data.scalar_mut(ScalarVar::WeightedGap, 0).unwrap();
+    wg[..4].copy_from_slice(&[1.0, 2.0, -1.0, 0.25]);
+    let lm = data
+        .scalar_mut(ScalarVar::LagrangeMultiplierContactPressure, 0)
+        .unwrap();
+    lm[..2].copy_from_slice(&[-3.0, -5.0]);
+    for &i in active_before {
+        m.nodes_mut().flags_mut()[i].set(Flag::ACTIVE, true);
+    }
+    (m, sub)
+}
+
+#[test]
+fn advanced_predict_correct_sets_the_multiplier_from_the_regression() {
+    let (mut m, sub) = regression_scene(&[0, 1]);
+    let r = compute_active_inactive_nodes(&mut m, sub, &advanced_predicting(true));
+    let (a, b) = r.regression.expect("two distinct points");
+    assert!(
+        (a + 1.0).abs() < 1e-12 && (b + 2.0).abs() < 1e-12,
+        "{a} {b}"
+    );
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    assert_eq!(r.active, 4);
+    let lm = m
+        .nodal_data()
+        .scalar(ScalarVar::LagrangeMultiplierContactPressure, 0)
+        .unwrap();
+    // p = −1 − 2·wg where negative, else 0: wg = −1 gives p = 1 > 0 → 0.
+    let expected = [-3.0, -5.0, 0.0, -1.5];
+    for (i, e) in expected.iter().enumerate() {
+        assert!((lm[i] - e).abs() < 1e-12, "{i}: {} vs {e}", lm[i]);
+    }
+}
+
+#[test]
+fn the_regression_with_one_active_node_is_nan_in_kratos_and_guarded_in_robust() {
+    // Kratos: 1·x² − x² = 0 → 0/0 (Q26): predicted multipliers come out as 0 (NaN < 0 is false).
+    let (mut m, sub) = regression_scene(&[0]);
+    let r = compute_active_inactive_nodes(&mut m, sub, &advanced_predicting(false));
+    let (a, b) = r.regression.unwrap();
+    assert!(!a.is_finite() || !b.is_finite());
+    assert_eq!(r.warnings.len(), 1, "{:?}", r.warnings);
+    let lm = m
+        .nodal_data()
+        .scalar(ScalarVar::LagrangeMultiplierContactPressure, 0)
+        .unwrap();
+    assert!(lm[..4].iter().all(|v| *v == 0.0), "{lm:?}");
+    // Robust: no regression, the multipliers are left as they were.
+    let (mut m, sub) = regression_scene(&[0]);
+    let r = compute_active_inactive_nodes(&mut m, sub, &advanced_predicting(true));
+    assert_eq!(r.regression, None);
+    assert!(
+        r.warnings[0].contains("two active nodes"),
+        "{}",
+        r.warnings[0]
+    );
+    let lm = m
+        .nodal_data()
+        .scalar(ScalarVar::LagrangeMultiplierContactPressure, 0)
+        .unwrap();
+    assert_eq!(&lm[..2], &[-3.0, -5.0]);
+    assert!(lm.iter().all(|v| v.is_finite()));
+}
+
+#[test]
+fn slip_rule_marks_frictionless_activated_nodes_slip() {
+    let (mut m, sub) = scene(-0.01);
+    m.nodal_data_mut()
+        .add_vector(VectorVar::VectorLagrangeMultiplier);
+    normal_gap_process(&mut m, sub, &settings()).unwrap();
+    let ms = MultiplierSettings {
+        kind: MultiplierKind::of(&m),
+        slip: true,
+        initial_penalty: Some(1.0),
+        scale_factor: Some(1.0),
+        ..MultiplierSettings::default()
+    };
+    assert_eq!(ms.kind, MultiplierKind::Vector);
+    compute_active_inactive_nodes(&mut m, sub, &simple_with(ms));
+    let f = m.nodes().flags()[1];
+    assert!(f.is(Flag::ACTIVE) && f.is(Flag::SLIP));
+    // The vector guess points along the node's normal.
+    let lm = m
+        .nodal_data()
+        .vector(VectorVar::VectorLagrangeMultiplier, 0)
+        .unwrap()[1];
+    assert!(lm.z.abs() > 0.0 && lm.x == 0.0 && lm.y == 0.0, "{lm:?}");
 }

@@ -274,10 +274,14 @@ impl ContactSearch {
         if searched {
             self.reset_marker(model);
             for i in 0..self.pairs.len() {
-                let compatibility = self.setup.compatibility;
+                let run = RunMode {
+                    compatibility: self.setup.compatibility,
+                    frictional: self.setup.contact_type.is_frictional(),
+                    python_path: !self.setup.cpp_search_parameters,
+                };
                 let pair = &mut self.pairs[i];
                 clear_mortar_conditions(model, pair);
-                let step_warnings = update_mortar_conditions(model, pair, compatibility)?;
+                let step_warnings = update_mortar_conditions(model, pair, run)?;
                 for w in step_warnings {
                     if !self.warnings.contains(&w) {
                         self.warnings.push(w);
@@ -484,8 +488,9 @@ fn clear_mortar_conditions(model: &mut ModelPart, pair: &mut PairSearch) {
 fn update_mortar_conditions(
     model: &mut ModelPart,
     pair: &mut PairSearch,
-    compatibility: Compatibility,
+    run: RunMode,
 ) -> Result<Vec<String>, Error> {
+    let compatibility = run.compatibility;
     let mut run_warnings = Vec::new();
     let p = pair.params.clone();
     let inverted = p.inverted_search;
@@ -579,7 +584,8 @@ fn update_mortar_conditions(
     // gives NORMAL_GAP, then the paired conditions, the weighted gap and the activation.
     if p.check_gap == CheckGap::MappingCheck {
         let restore = if moved { delta.as_deref() } else { None };
-        check_pairing(model, pair, &p, compatibility, restore, condition_id)?;
+        let warnings = check_pairing(model, pair, &p, run, restore, condition_id)?;
+        run_warnings.extend(warnings);
         return Ok(run_warnings);
     }
     // No/DirectCheck with a dynamic search: Kratos subtracts the increment although the
@@ -595,15 +601,21 @@ fn update_mortar_conditions(
 /// mortar mapping that removes the entries without overlap and erases their paired
 /// conditions); the dynamic shift is undone (`restore`); the unit normals are recomputed;
 /// CreateAuxiliaryConditions for the surviving new entries; ComputeWeightedReaction;
-/// ComputeActiveInactiveNodes.
+/// ComputeActiveInactiveNodes (with the multiplier guesses and, for frictional contact — a
+/// SLIP root model part — the SLIP rule). Returns the activation's warnings.
 fn check_pairing(
     model: &mut ModelPart,
     pair: &mut PairSearch,
     p: &SearchParameters,
-    compatibility: Compatibility,
+    run: RunMode,
     restore: Option<&[Vector]>,
     condition_id: u32,
-) -> Result<(), Error> {
+) -> Result<Vec<String>, Error> {
+    let RunMode {
+        compatibility,
+        frictional,
+        python_path,
+    } = run;
     use csm_activation as act;
     let inverted = p.inverted_search;
     let sub = pair.sub;
@@ -679,16 +691,44 @@ fn check_pairing(
                 .unwrap_or(0.0),
         }
     };
-    act::compute_active_inactive_nodes(
+    // Python's ALM path computes INITIAL_PENALTY and SCALE_FACTOR with
+    // ALMVariablesCalculationProcess, which csm does not emulate: without values in the
+    // setup's `process_info` the guess is skipped (with a warning) rather than guessed wrong.
+    // The C++ path reads absent values as 0 (0/0 = NaN, Q25), which kratos mode reproduces.
+    let initial_penalty = model.process_info().number("INITIAL_PENALTY");
+    let scale_factor = model.process_info().number("SCALE_FACTOR");
+    let not_emulated = python_path && (initial_penalty.is_none() || scale_factor.is_none());
+    let multiplier = act::MultiplierSettings {
+        kind: act::MultiplierKind::of(model),
+        initial_penalty,
+        scale_factor,
+        predict_correct: p.predict_correct_lagrange_multiplier,
+        slip: frictional,
+        pure_slip: p.pure_slip,
+        guarded: compatibility == Compatibility::Robust || not_emulated,
+    };
+    let report = act::compute_active_inactive_nodes(
         model,
         sub,
         &act::ActivationSettings {
             rule,
             inverted,
             keep_gap_on_inactive: compatibility == Compatibility::Robust,
+            multiplier,
         },
     );
-    Ok(())
+    Ok(report.warnings)
+}
+
+/// How a step runs, beside the pair's own parameters.
+#[derive(Debug, Clone, Copy)]
+struct RunMode {
+    /// `kratos` or `robust`.
+    compatibility: Compatibility,
+    /// Frictional contact (a SLIP root model part): the activation applies the SLIP rule.
+    frictional: bool,
+    /// The setup came through Kratos' Python layer (not `cpp_search_parameters`).
+    python_path: bool,
 }
 
 /// Swaps the roles of the conditions of `sub` for an inverted octree search: SLAVE := not
