@@ -5,6 +5,7 @@ mod cli_info;
 mod cli_search;
 mod kratos_conformance;
 mod kratos_search;
+mod kratos_steps;
 mod robust_snapshots;
 
 use std::path::PathBuf;

@@ -25,8 +25,9 @@ mod stages;
 
 pub use error::{Error, ErrorKind};
 pub use setup::{
-    CheckGap, Compatibility, ContactType, ObbIntersectionType, OctreeSearchParameters, PairSetup,
-    SearchParameters, SearchSetup, SearchTreeType, SetupSource, parse_setup,
+    CheckGap, Compatibility, ContactType, NodalValueSetup, ObbIntersectionType,
+    OctreeSearchParameters, PairSetup, PartMotion, RigidMotion, Rotation, SearchParameters,
+    SearchSetup, SearchTreeType, SetupSource, StepSetup, parse_setup,
 };
 pub use stages::*;
 mod pipeline;

@@ -520,14 +520,14 @@ fn database_step_update_skips_steps_and_deactivates() {
     let mut search = ContactSearch::initialize(&mut model, &s).unwrap();
     let first = search.step(&mut model).unwrap();
     assert!(first.n_pairs() > 0 && first.nodes.values().all(|n| n.active));
-    search.finalize_step(&mut model);
+    search.finalize_step(&mut model).unwrap();
     model.process_info_mut().set_number("STEP", 2.0);
     let skipped = search.step(&mut model).unwrap();
     assert!(
         skipped.nodes.values().all(|n| !n.active),
         "Q36: deactivated in a skipped step"
     );
-    search.finalize_step(&mut model);
+    search.finalize_step(&mut model).unwrap();
     model.process_info_mut().set_number("STEP", 3.0);
     let third = search.step(&mut model).unwrap();
     assert_eq!(third.pairs, first.pairs);
