@@ -138,7 +138,8 @@ pub fn run_search_with(
                 .advance(model, step_setup)
                 .map_err(|e| e.to_string())?;
             let step_start = Instant::now();
-            let progress = Progress::start(&format!("searching, step {step}/{n}"), options.progress);
+            let progress =
+                Progress::start(&format!("searching, step {step}/{n}"), options.progress);
             let result = search.step(model);
             progress.finish();
             let search_s = step_start.elapsed().as_secs_f64();

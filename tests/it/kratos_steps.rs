@@ -33,7 +33,11 @@ fn run_csm(name: &str, fixture: &Value, threads: &str) -> Result<Value, String> 
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mesh = root.join(fixture["mesh"].as_str().expect("mesh path"));
     let setup = scratch(&format!("steps_{name}_setup.json"));
-    std::fs::write(&setup, serde_json::to_string_pretty(&fixture["setup"]).unwrap()).unwrap();
+    std::fs::write(
+        &setup,
+        serde_json::to_string_pretty(&fixture["setup"]).unwrap(),
+    )
+    .unwrap();
     let out = csm(&[
         "search",
         mesh.to_str().unwrap(),

@@ -44,7 +44,9 @@ impl ModelPart {
             .zip(positions)
             .map(|(old, new)| new - old)
             .collect();
-        self.nodes_mut().coordinates_mut().copy_from_slice(positions);
+        self.nodes_mut()
+            .coordinates_mut()
+            .copy_from_slice(positions);
         let data = self.nodal_data_mut();
         for v in [
             VectorVar::Displacement,

@@ -21,7 +21,11 @@ fn advance_time_step_shifts_the_buffer_and_the_clock() {
     m.advance_time_step(0.25);
     let pi = m.process_info();
     assert_eq!(
-        (pi.number("STEP"), pi.number("TIME"), pi.number("DELTA_TIME")),
+        (
+            pi.number("STEP"),
+            pi.number("TIME"),
+            pi.number("DELTA_TIME")
+        ),
         (Some(2.0), Some(1.25), Some(0.25))
     );
     let data = m.nodal_data();

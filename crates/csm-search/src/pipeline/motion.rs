@@ -55,7 +55,10 @@ pub(crate) fn step_positions(model: &ModelPart, step: &StepSetup) -> Result<Vec<
     let mut positions = model.nodes().coordinates().to_vec();
     for m in &step.moves {
         let part = model.get_part(&m.part).map_err(|e| {
-            Error::from(ErrorKind::Model(format!("step motion of `{}`: {e}", m.part)))
+            Error::from(ErrorKind::Model(format!(
+                "step motion of `{}`: {e}",
+                m.part
+            )))
         })?;
         for n in model.part(part).nodes() {
             positions[n.index()] = m.motion.apply(&positions[n.index()]);

@@ -22,8 +22,7 @@ use super::shared_conditions::check_contact_model_parts;
 use super::step_jump::compute_step_jump;
 use crate::error::{Error, ErrorKind};
 use crate::setup::{
-    CheckGap, Compatibility, ContactType, SearchParameters, SearchSetup, SearchTreeType,
-    StepSetup,
+    CheckGap, Compatibility, ContactType, SearchParameters, SearchSetup, SearchTreeType, StepSetup,
 };
 use crate::stages::{
     ContactParts, InterfaceSettings, NormalCheckSettings, SearchInstance, assign_contact_flags,
@@ -418,9 +417,7 @@ fn locate(e: Error, setup: &SearchSetup) -> Error {
     };
     let line = match e.kind() {
         // `steps[i]…` / `nodal_values[i]…`: the entry's own line.
-        ErrorKind::InvalidValue { key, .. } if key.contains('[') => {
-            source.line_of_indexed_key(key)
-        }
+        ErrorKind::InvalidValue { key, .. } if key.contains('[') => source.line_of_indexed_key(key),
         ErrorKind::InvalidValue { key, found, .. } => source
             .line_of(found)
             .or_else(|| source.line_of(&format!("\"{}\"", key.rsplit('.').next().unwrap_or(key)))),

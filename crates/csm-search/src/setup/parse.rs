@@ -8,8 +8,8 @@ use serde_json::{Map, Value};
 use super::defaults::{ALM_DEFAULTS, CONTACT_MODULES, CSM_KEYS, WRAPPER_DEFAULTS};
 use super::types::{
     CheckGap, Compatibility, ContactType, NodalValueSetup, ObbIntersectionType,
-    OctreeSearchParameters, PairSetup, PartMotion, RigidMotion, Rotation,
-    SearchParameters, SearchSetup, SearchTreeType, SetupSource, StepSetup, line_of_key_path,
+    OctreeSearchParameters, PairSetup, PartMotion, RigidMotion, Rotation, SearchParameters,
+    SearchSetup, SearchTreeType, SetupSource, StepSetup, line_of_key_path,
 };
 use super::validate::validate_and_fill;
 use crate::error::{Error, ErrorKind};
@@ -618,9 +618,9 @@ fn steps(v: &Value) -> Result<Vec<StepSetup>, Error> {
     let mut out = Vec::with_capacity(items.len());
     for (i, item) in items.iter().enumerate() {
         let key = format!("steps[{i}]");
-        let map = item.as_object().ok_or_else(|| {
-            invalid(&key, "an object {\"delta_time\": dt, \"move\": {…}}", item)
-        })?;
+        let map = item
+            .as_object()
+            .ok_or_else(|| invalid(&key, "an object {\"delta_time\": dt, \"move\": {…}}", item))?;
         only_keys(map, &key, &["delta_time", "move"])?;
         let dt_key = format!("{key}.delta_time");
         let dt = map

@@ -382,6 +382,10 @@ impl RigidMotion {
             y = c1 + (v1 * cos + w1 * sin + k1 * f);
             z = c2 + (v2 * cos + w2 * sin + k2 * f);
         }
-        Point::new(x + self.translate.x, y + self.translate.y, z + self.translate.z)
+        Point::new(
+            x + self.translate.x,
+            y + self.translate.y,
+            z + self.translate.z,
+        )
     }
 }
