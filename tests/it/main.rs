@@ -3,6 +3,7 @@
 mod cli_demo;
 mod cli_info;
 mod cli_search;
+mod cli_steps;
 mod kratos_conformance;
 mod kratos_search;
 mod kratos_steps;
