@@ -305,6 +305,18 @@ STEP_CASES = [
              "translate": [0.0, 0.0, -0.003],
              "rotate": {"axis": [1.0, 1.0, 0.0], "angle_deg": 1.0, "centre": [0.0, 0.0, 1.0]}}}},
      ])),
+    # static_check_movement with consider_gap_threshold: every slave node of the flat interface
+    # opens to a gap of 1.5e-4 (step 2), between L = DISTANCE_THRESHOLD * 0.001 (about 1e-4) and
+    # the 2e-4 floor, with a WEIGHTED_GAP growing from the previous step's (buffer index 1):
+    # active only through the static check; then closes to 1.2e-4 (step 3): the weighted gap
+    # decreases, the floor does not apply and the nodes are inactive (reference §10.6).
+    ("stacked_blocks__static_check_movement", "stacked_blocks", 3,
+     alm_setup({"static_check_movement": True, "consider_gap_threshold": True,
+                "active_check_factor": 0.001}, [
+         {"delta_time": 0.1, "move": {"Parts_Upper": {"translate": [0.02, 0.0, 0.0]}}},
+         {"delta_time": 0.1, "move": {"Parts_Upper": {"translate": [0.02, 0.01, 1.5e-4]}}},
+         {"delta_time": 0.1, "move": {"Parts_Upper": {"translate": [0.0, 0.02, -0.3e-4]}}},
+     ])),
     # 2D, Simple activation, a rolling disc (rotation about z through its centre plus translation).
     ("cylinder_on_block_2d__simple_rolling", "cylinder_on_block_2d", 2,
      alm_setup({"simple_search": True}, [
