@@ -48,7 +48,8 @@ enum Command {
         #[arg(long)]
         part: Option<String>,
     },
-    /// Run the contact search (one step) and write RESULT.json.
+    /// Run the contact search (one step, or every step of the setup's `steps`) and write
+    /// RESULT.json.
     Search {
         /// The mesh: a Kratos `.mdpa` or a Gmsh `.msh`.
         mesh: PathBuf,
@@ -152,8 +153,12 @@ fn run(cli: Cli) -> Result<(), String> {
                 logger::info(format_args!("wrote {}", path.display()));
             }
             if !quiet {
+                let steps = match result.steps.len() {
+                    0 => String::new(),
+                    n => format!("{n} steps; after the last: "),
+                };
                 eprintln!(
-                    "{} slave conditions, {} pairs, {} paired conditions; read {:.3} s, \
+                    "{steps}{} slave conditions, {} pairs, {} paired conditions; read {:.3} s, \
                      initialize {:.3} s, search {:.3} s",
                     result.pairs.values().map(|m| m.len()).sum::<usize>(),
                     result.n_pairs(),

@@ -98,7 +98,8 @@ WRAPPER_DEFAULTS = {
         "lower_bounding_box_coefficient": 0.0, "higher_bounding_box_coefficient": 1.0}}
 
 # SETUP.json keys that are csm's, not Kratos' (DESIGN.md §2): applied by the harness, not passed on.
-CSM_KEYS = ("compatibility", "strict", "process_info", "nodal_h", "cpp_search_parameters", "steps")
+CSM_KEYS = ("compatibility", "strict", "process_info", "nodal_h", "cpp_search_parameters", "steps",
+            "nodal_values")
 
 NOT_MAPPED = 1.0e12  # NORMAL_GAP sentinel of the mapper ("not mapped")
 

@@ -1,9 +1,10 @@
-//! `csm search`: read a mesh and a setup, run one search step, report RESULT.json.
+//! `csm search`: read a mesh and a setup, run the search (one step, or every step of the
+//! setup's `steps`), report RESULT.json.
 
 use std::time::Instant;
 
 use csm_model::ModelPart;
-use csm_search::{ContactSearch, SearchResult, SearchSetup, parse_setup};
+use csm_search::{ContactSearch, SearchResult, SearchSetup, StepResult, parse_setup};
 
 use crate::cli::logger;
 use crate::cli::progress::Progress;
@@ -15,9 +16,11 @@ pub struct Timings {
     pub read: f64,
     /// Everything before the search step (contact parts, NODAL_H, …).
     pub initialize: f64,
-    /// The search step (Kratos' ExecuteInitializeSolutionStep).
+    /// The search step (Kratos' ExecuteInitializeSolutionStep); with `steps`, the sum over
+    /// the steps (each step's own time is in its RESULT.json entry).
     pub search: f64,
-    /// From the start of reading to the end of the search.
+    /// From the start of reading to the end of the (last) search, the motion and the
+    /// finalization between steps included.
     pub total: f64,
 }
 
@@ -77,7 +80,10 @@ pub struct RunOptions {
     pub progress: bool,
 }
 
-/// Runs initialize + one search step on `model`; `read` is the time the mesh took to read.
+/// Runs initialize + one search step on `model` (or, when the setup has `steps`, every step:
+/// motion, search, and ExecuteFinalizeSolutionStep before the next one); `read` is the time the
+/// mesh took to read. With steps the result is that of the last step, with every step's in
+/// [`SearchResult::steps`].
 pub fn run_search(
     model: &mut ModelPart,
     setup: &SearchSetup,
@@ -111,13 +117,58 @@ pub fn run_search_with(
         model.conditions().len()
     ));
     let start = Instant::now();
-    let progress = Progress::start("searching", options.progress);
-    let result = search.step(model);
-    progress.finish();
-    let result = result.map_err(|e| e.to_string())?;
-    let search_time = start.elapsed().as_secs_f64();
+    let mut search_time = 0.0;
+    let result = if setup.steps.is_empty() {
+        let progress = Progress::start("searching", options.progress);
+        let result = search.step(model);
+        progress.finish();
+        search_time = start.elapsed().as_secs_f64();
+        let result = result.map_err(|e| e.to_string())?;
+        log_step(None, search_time, &result);
+        result
+    } else {
+        let n = setup.steps.len();
+        let mut steps: Vec<StepResult> = Vec::with_capacity(n);
+        for (k, step_setup) in setup.steps.iter().enumerate() {
+            let step = k as u32 + 1;
+            if k > 0 {
+                search.finalize_step(model).map_err(|e| e.to_string())?;
+            }
+            search
+                .advance(model, step_setup)
+                .map_err(|e| e.to_string())?;
+            let step_start = Instant::now();
+            let progress =
+                Progress::start(&format!("searching, step {step}/{n}"), options.progress);
+            let result = search.step(model);
+            progress.finish();
+            let search_s = step_start.elapsed().as_secs_f64();
+            let result = result.map_err(|e| e.to_string())?;
+            log_step(Some(step), search_s, &result);
+            search_time += search_s;
+            steps.push(StepResult {
+                step,
+                result,
+                search_s,
+            });
+        }
+        let mut last = steps.last().map(|s| s.result.clone()).unwrap_or_default();
+        last.steps = steps;
+        last
+    };
+    let timings = Timings {
+        read,
+        initialize,
+        search: search_time,
+        total: read + initialize + start.elapsed().as_secs_f64(),
+    };
+    Ok((result, timings))
+}
+
+fn log_step(step: Option<u32>, seconds: f64, result: &SearchResult) {
+    let label = step.map_or(String::new(), |k| format!(" (step {k})"));
     logger::info(format_args!(
-        "search: {search_time:.3} s; {} slave conditions, {} pairs, {} paired conditions, {} \
+        "search{label}: {seconds:.3} s; {} slave conditions, {} pairs, {} paired conditions, {} \
          active nodes, {} warnings",
         result.pairs.values().map(|m| m.len()).sum::<usize>(),
         result.n_pairs(),
@@ -125,11 +176,4 @@ pub fn run_search_with(
         result.nodes.values().filter(|n| n.active).count(),
         result.warnings.len()
     ));
-    let timings = Timings {
-        read,
-        initialize,
-        search: search_time,
-        total: read + initialize + search_time,
-    };
-    Ok((result, timings))
 }

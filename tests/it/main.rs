@@ -3,8 +3,10 @@
 mod cli_demo;
 mod cli_info;
 mod cli_search;
+mod cli_steps;
 mod kratos_conformance;
 mod kratos_search;
+mod kratos_steps;
 mod robust_snapshots;
 
 use std::path::PathBuf;

@@ -3,7 +3,8 @@
 //! - `cargo xtask ci`: exactly what CI runs: `cargo fmt --check`, `cargo clippy -D warnings`
 //!   over every target, and every test (insta snapshots fail when missing or changed).
 //! - `cargo xtask fixtures`: regenerates the Kratos reference fixtures under `tests/fixtures/`
-//!   by driving Kratos 10.4.4 (PyPI) with one thread through `tools/kratos_fixtures*.py`. The
+//!   by driving Kratos 10.4.4 (PyPI) with one thread through `tools/kratos_fixtures*.py`
+//!   (`kratos_fixtures_steps.py`: multi-step runs and the dynamic-search test). The
 //!   virtual environment is made in `target/kratos-venv` on first use (or set `KRATOS_PYTHON`
 //!   to a Python that has Kratos). CI never runs this: the fixtures are committed data.
 //! - `cargo xtask snapshots`: the snapshot tests alone, as CI runs them; review changes

@@ -71,18 +71,21 @@ pub fn compute_weighted_gap(
         let basis = dual_basis(&slave, &gps);
         let ops = mortar_operators(&slave, &master, &gps, Some(&basis));
         let slave_nodes = model.conditions().nodes(sc.index());
+        // Kratos: `D_x1_M_x2 = prod(D, x1) − prod(M, x2)`, then
+        // `WEIGHTED_GAP_i += inner_prod(row_i, −n_i)` (sums in index order from 0).
         for (i, n) in slave_nodes.iter().enumerate() {
             let normal = sdata.nodal_normals[i];
             let mut g = 0.0;
             for k in 0..dim {
-                let mut v = 0.0;
+                let mut dx = 0.0;
                 for (j, p) in sdata.points.iter().enumerate() {
-                    v += ops.d[(i, j)] * p[k];
+                    dx += ops.d[(i, j)] * p[k];
                 }
+                let mut mx = 0.0;
                 for (j, p) in mdata.points.iter().enumerate() {
-                    v -= ops.m[(i, j)] * p[k];
+                    mx += ops.m[(i, j)] * p[k];
                 }
-                g += -normal[k] * v;
+                g += (dx - mx) * -normal[k];
             }
             wg[n.index()] += g;
         }

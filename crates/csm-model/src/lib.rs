@@ -4,7 +4,10 @@
 //! Main types: [`ModelPart`] (nodes, elements, conditions, properties, process info and a tree
 //! of sub model parts addressed by full path), [`Flags`] (Kratos' tri-state flags: undefined /
 //! true / false), [`NodalData`] (historical variables with a buffer of two steps and plain
-//! ones), [`IndexMap`] (the per-condition map of candidate masters).
+//! ones), [`IndexMap`] (the per-condition map of candidate masters). Between two search steps
+//! [`ModelPart::advance_time_step`] and [`ModelPart::prescribe_motion`] advance the model as
+//! Kratos' analysis stage and solver do (buffer shift, new coordinates, DISPLACEMENT, VELOCITY,
+//! ACCELERATION).
 //!
 //! **Architecture Invariant:** `csm-model` depends only on `csm-geometry`. It knows nothing of
 //! files, trees or the search: readers (`csm-io`) fill it, stages (`csm-search`,
@@ -27,6 +30,7 @@ mod normals;
 mod parts;
 mod process_info;
 mod properties;
+mod time_step;
 
 pub use entities::{Entities, Nodes};
 pub use error::{EntityKind, Error, ErrorKind};

@@ -10,9 +10,11 @@
 //! ([`normal_check`], stage 2), [`master_slave_from_nodes`] (stage 3), [`dispatch`] (stage 4),
 //! the life cycle with `database_step_update` (stage 5), the kd-tree broad phase (`in_radius`,
 //! `in_box`), the OBB and 18-DOP narrow phases (stages 6–7), the candidate filters and the
-//! No/Direct/MappingCheck pairing (stage 8), dynamic and inverted search. Not yet: the octree
-//! path, self-contact (roles not predefined) and the MappingCheck mortar pruning (the gap
-//! and activation issue).
+//! No/Direct/MappingCheck pairing (stage 8) with the mortar pruning, gap and activation of
+//! `csm-activation`, dynamic and inverted search, the octree path, and multi-step runs
+//! ([`ContactSearch::advance`]: the time step and the rigid motions of SETUP.json `steps`,
+//! `docs/steps.md`). Not yet: self-contact (roles not predefined; Kratos 10.4.4 fails there
+//! too, Q47).
 //!
 //! **Architecture Invariant:** `csm-search` depends on `csm-activation`, `csm-model`,
 //! `csm-trees` and `csm-geometry`, never on `csm-io` or the facade: it works on a
@@ -25,8 +27,9 @@ mod stages;
 
 pub use error::{Error, ErrorKind};
 pub use setup::{
-    CheckGap, Compatibility, ContactType, ObbIntersectionType, OctreeSearchParameters, PairSetup,
-    SearchParameters, SearchSetup, SearchTreeType, SetupSource, parse_setup,
+    CheckGap, Compatibility, ContactType, NodalValueSetup, ObbIntersectionType,
+    OctreeSearchParameters, PairSetup, PartMotion, RigidMotion, Rotation, SearchParameters,
+    SearchSetup, SearchTreeType, SetupSource, StepSetup, parse_setup,
 };
 pub use stages::*;
 mod pipeline;

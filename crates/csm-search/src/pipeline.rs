@@ -1,7 +1,8 @@
 //! The search driver: Kratos' life cycle (reference §1.3–§1.4, §4, §5) composed from the
 //! stages — `ExecuteInitialize` ([`ContactSearch::initialize`]), `ExecuteInitializeSolutionStep`
 //! ([`ContactSearch::step`]) and `ExecuteFinalizeSolutionStep`
-//! ([`ContactSearch::finalize_step`]).
+//! ([`ContactSearch::finalize_step`]), and between steps of a multi-step run the time step and
+//! the prescribed motion ([`ContactSearch::advance`]).
 //!
 //! The slave loop runs in parallel (rayon): every per-slave computation that does not depend
 //! on the order (tree query, bounding volumes, geometric tests) is done in parallel, and the
@@ -11,6 +12,7 @@
 
 mod candidates;
 mod filters;
+mod motion;
 mod octree;
 mod pairing;
 mod result;
@@ -18,7 +20,7 @@ mod search;
 mod shared_conditions;
 mod step_jump;
 
-pub use result::{NodeResult, SearchResult};
+pub use result::{NodeResult, SearchResult, StepResult};
 pub use search::{ContactSearch, PairedCondition};
 
 #[cfg(test)]

@@ -9,8 +9,9 @@ mod validate;
 
 pub use parse::parse_setup;
 pub use types::{
-    CheckGap, Compatibility, ContactType, ObbIntersectionType, OctreeSearchParameters, PairSetup,
-    SearchParameters, SearchSetup, SearchTreeType, SetupSource,
+    CheckGap, Compatibility, ContactType, NodalValueSetup, ObbIntersectionType,
+    OctreeSearchParameters, PairSetup, PartMotion, RigidMotion, Rotation, SearchParameters,
+    SearchSetup, SearchTreeType, SetupSource, StepSetup,
 };
 
 #[cfg(test)]

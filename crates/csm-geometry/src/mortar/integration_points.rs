@@ -69,6 +69,11 @@ pub struct MortarIntegrationPoint {
     /// Integration weight times the cell Jacobian determinant (`w · detJ`); the weights of a
     /// segmentation sum to its measure.
     pub weight: Real,
+    /// The Gauss weight `w` of the cell's rule alone (Kratos multiplies it with `detJ` in
+    /// different orders in different operators; see [`dual_basis`](super::dual_basis)).
+    pub gauss_weight: Real,
+    /// The cell's Jacobian determinant `detJ` alone.
+    pub det_j: Real,
 }
 
 /// The Gauss points Kratos integrates the mortar operators on: for every cell that passes the
@@ -147,6 +152,8 @@ pub fn integration_points(
                 master_global,
                 master_local,
                 weight: w * det_j,
+                gauss_weight: w,
+                det_j,
             });
         }
     }

@@ -18,18 +18,20 @@ pub struct MortarOperators {
 
 impl MortarOperators {
     /// The mapper residual `R = M · v_master − D · v_slave` for one scalar component
-    /// (values in node order).
+    /// (values in node order), evaluated as ublas does `prod(M, V) − prod(D, S)`: each product
+    /// summed in index order from 0, then the difference.
     pub fn residual(&self, master_values: &[Real], slave_values: &[Real]) -> Vec<Real> {
         (0..self.d.nrows())
             .map(|i| {
-                let mut r = 0.0;
+                let mut mv = 0.0;
                 for (j, v) in master_values.iter().enumerate() {
-                    r += self.m[(i, j)] * v;
+                    mv += self.m[(i, j)] * v;
                 }
+                let mut ds = 0.0;
                 for (j, v) in slave_values.iter().enumerate() {
-                    r -= self.d[(i, j)] * v;
+                    ds += self.d[(i, j)] * v;
                 }
-                r
+                mv - ds
             })
             .collect()
     }
@@ -57,12 +59,15 @@ pub fn mortar_operators(
             Some(b) => b.phi(&ns),
             None => ns.to_vec(),
         };
+        // Kratos `MortarOperator::CalculateMortarOperators`:
+        // `D += (detJ·w) · outer(Φ, N_s)`, `M += (detJ·w) · outer(Φ, N_m)`.
+        let w_det = gp.det_j * gp.gauss_weight;
         for i in 0..ns_count {
             for j in 0..ns_count {
-                d[(i, j)] += gp.weight * phi[i] * ns[j];
+                d[(i, j)] += w_det * (phi[i] * ns[j]);
             }
             for j in 0..nm_count {
-                m[(i, j)] += gp.weight * phi[i] * nm[j];
+                m[(i, j)] += w_det * (phi[i] * nm[j]);
             }
         }
     }

@@ -25,11 +25,27 @@ pub struct SearchResult {
     pub paired_conditions: usize,
     /// Warnings of the setup and of the run.
     pub warnings: Vec<String>,
+    /// The steps of a multi-step run (SETUP.json `steps`), in order; empty for a single step.
+    /// The other fields are then those of the last step.
+    pub steps: Vec<StepResult>,
+}
+
+/// The result of one step of a multi-step run (RESULT.json `steps` entry).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StepResult {
+    /// The step number, from 1.
+    pub step: u32,
+    /// Pairs, nodes and paired conditions after that step's search (its `steps` and
+    /// `warnings` are not written).
+    pub result: SearchResult,
+    /// Wall time of the step's search (`timings_s.search`), 0 when not measured.
+    pub search_s: f64,
 }
 
 impl SearchResult {
     /// RESULT.json (`csm-result/1`): keys in the contract's order, ids in numeric order.
-    /// `timings` become `timings_s`.
+    /// `timings` become `timings_s`. A multi-step result adds `steps`: per step `step`,
+    /// `pairs`, `nodes`, `paired_conditions` and `timings_s` (`search`).
     pub fn to_json(&self, timings: &[(&str, f64)]) -> Value {
         let pairs: Map<String, Value> = self
             .pairs
@@ -64,6 +80,26 @@ impl SearchResult {
         out.insert("paired_conditions".into(), json!(self.paired_conditions));
         out.insert("warnings".into(), json!(self.warnings));
         out.insert("timings_s".into(), Value::Object(timings));
+        if !self.steps.is_empty() {
+            let steps: Vec<Value> = self
+                .steps
+                .iter()
+                .map(|s| {
+                    let mut v = s.result.to_json(&[("search", s.search_s)]);
+                    let mut step = Map::new();
+                    step.insert("step".into(), json!(s.step));
+                    if let Value::Object(m) = &mut v {
+                        for key in ["pairs", "nodes", "paired_conditions", "timings_s"] {
+                            if let Some(x) = m.remove(key) {
+                                step.insert(key.into(), x);
+                            }
+                        }
+                    }
+                    Value::Object(step)
+                })
+                .collect();
+            out.insert("steps".into(), Value::Array(steps));
+        }
         Value::Object(out)
     }
 

@@ -13,6 +13,7 @@ use csm_trees::KdTree;
 use rayon::prelude::*;
 
 use super::candidates::{Bv, Candidate, QueryContext, slave_candidates};
+use super::motion::{apply_nodal_values, check_step_parts, step_positions};
 use super::octree::{OctreeContext, search_octree_report};
 pub use super::pairing::PairedCondition;
 use super::pairing::{PairingContext, apply_candidates};
@@ -21,7 +22,7 @@ use super::shared_conditions::check_contact_model_parts;
 use super::step_jump::compute_step_jump;
 use crate::error::{Error, ErrorKind};
 use crate::setup::{
-    CheckGap, Compatibility, ContactType, SearchParameters, SearchSetup, SearchTreeType,
+    CheckGap, Compatibility, ContactType, SearchParameters, SearchSetup, SearchTreeType, StepSetup,
 };
 use crate::stages::{
     ContactParts, InterfaceSettings, NormalCheckSettings, SearchInstance, assign_contact_flags,
@@ -48,6 +49,9 @@ pub struct ContactSearch {
     parts: ContactParts,
     pairs: Vec<PairSearch>,
     database_step: u32,
+    /// Calls of [`ContactSearch::step`] so far (a multi-step run advances the time step from
+    /// the second step on).
+    steps_run: u32,
     warnings: Vec<String>,
 }
 
@@ -90,10 +94,16 @@ impl ContactSearch {
             None => {
                 let mut parts = assign_contact_flags(model, &setup)?;
                 // Stage 1 for every user part (Kratos calls GenerateInterfacePart on each: it only
-                // checks the properties when the part has conditions, else generates them).
-                for (&key, pair) in setup.pairs.iter().filter(|_| python_path) {
+                // checks the properties when the part has conditions, else generates them). On
+                // the C++ path only parts that list nodes only get conditions, as Kratos' tests
+                // that drive the C++ process do before building it (test_dynamic_search.py,
+                // reference §20.2); parts with conditions are used as they are.
+                for (&key, pair) in &setup.pairs {
                     for path in &pair.parts {
                         let part = model.get_part(path).map_err(model_error)?;
+                        if !python_path && !model.part(part).conditions().is_empty() {
+                            continue;
+                        }
                         let settings = InterfaceSettings {
                             simplify_geometry: false,
                             contact_property_id: pair.property_id,
@@ -140,6 +150,8 @@ impl ContactSearch {
             }
             None => assign_nodal_h(model, None, NodalHMode::Kratos),
         }
+        apply_nodal_values(model, &setup.nodal_values)?;
+        check_step_parts(model, &setup.steps)?;
         if setup.adapt_search {
             // ContactUtilities::CalculateRelativeSizeMesh over every node (Q33: a node in no
             // element has DBL_MAX and makes the factor infinite).
@@ -233,6 +245,7 @@ impl ContactSearch {
             parts,
             pairs,
             database_step: 0,
+            steps_run: 0,
             warnings,
         })
     }
@@ -271,6 +284,7 @@ impl ContactSearch {
             }
         }
         let contact = self.parts.contact;
+        self.steps_run += 1;
         if searched {
             self.reset_marker(model);
             for i in 0..self.pairs.len() {
@@ -280,7 +294,7 @@ impl ContactSearch {
                     python_path: !self.setup.cpp_search_parameters,
                 };
                 let pair = &mut self.pairs[i];
-                clear_mortar_conditions(model, pair);
+                clear_mortar_conditions(model, pair, run.compatibility)?;
                 let step_warnings = update_mortar_conditions(model, pair, run)?;
                 for w in step_warnings {
                     if !self.warnings.contains(&w) {
@@ -301,15 +315,46 @@ impl ContactSearch {
     }
 
     /// Kratos' `ExecuteFinalizeSolutionStep`: clears the pairs of the pairs searched this
-    /// step (ClearMortarConditions) and resets the database counter.
-    pub fn finalize_step(&mut self, model: &mut ModelPart) {
+    /// step (ClearMortarConditions: paired conditions that are not ACTIVE go, with their
+    /// INDEX_MAP entries; in a search-only run every paired condition stays ACTIVE, so the
+    /// pairs are kept for the next search) and resets the database counter.
+    ///
+    /// Errors in `kratos` mode when an INDEX_MAP entry has no paired condition (C++ parameters
+    /// without `condition_name`): Kratos' ResetContactOperators then fails on condition 0
+    /// ("Condition index not found: 0.", Q18, observed with Kratos 10.4.4). `robust` mode drops
+    /// those entries instead (the next search finds them again).
+    pub fn finalize_step(&mut self, model: &mut ModelPart) -> Result<(), Error> {
         let step = model.process_info().number("STEP").unwrap_or(1.0);
         if self.database_step >= self.setup.database_step_update || step == 1.0 {
             for pair in &mut self.pairs {
-                clear_mortar_conditions(model, pair);
+                clear_mortar_conditions(model, pair, self.setup.compatibility)?;
             }
             self.database_step = 0;
         }
+        Ok(())
+    }
+
+    /// Prepares the next step of a multi-step run (SETUP.json `steps`, DESIGN.md §3), before
+    /// [`ContactSearch::step`]: from the second step on the time step advances
+    /// ([`ModelPart::advance_time_step`]: STEP + 1, TIME + dt, the historical buffer shifts);
+    /// then `DELTA_TIME := dt` and every node of the parts the step names is moved by its
+    /// rigid increment ([`ModelPart::prescribe_motion`]: DISPLACEMENT accumulates, VELOCITY =
+    /// increment / dt, ACCELERATION = ΔVELOCITY / dt; every other node gets a zero increment).
+    ///
+    /// A run is: [`ContactSearch::initialize`] once, then per step `advance`,
+    /// [`ContactSearch::step`], [`ContactSearch::finalize_step`]. A model moved by other means
+    /// follows the same order with its own `advance_time_step` / `prescribe_motion` calls.
+    pub fn advance(&mut self, model: &mut ModelPart, step: &StepSetup) -> Result<(), Error> {
+        if self.steps_run > 0 {
+            model.advance_time_step(step.delta_time);
+        } else {
+            model
+                .process_info_mut()
+                .set_number("DELTA_TIME", step.delta_time);
+        }
+        let positions = step_positions(model, step)?;
+        model.prescribe_motion(&positions, step.delta_time);
+        Ok(())
     }
 
     fn reset_marker(&self, model: &mut ModelPart) {
@@ -375,6 +420,8 @@ fn locate(e: Error, setup: &SearchSetup) -> Error {
         return e;
     };
     let line = match e.kind() {
+        // `steps[i]…` / `nodal_values[i]…`: the entry's own line.
+        ErrorKind::InvalidValue { key, .. } if key.contains('[') => source.line_of_indexed_key(key),
         ErrorKind::InvalidValue { key, found, .. } => source
             .line_of(found)
             .or_else(|| source.line_of(&format!("\"{}\"", key.rsplit('.').next().unwrap_or(key)))),
@@ -453,8 +500,44 @@ fn emulate_python_state(model: &mut ModelPart, setup: &SearchSetup) {
 
 /// ClearMortarConditions (§4.3): ResetContactOperators — paired conditions that are not
 /// ACTIVE are erased and their masters removed from the slave's INDEX_MAP — then the Lagrange
-/// multiplier of ContactSub nodes that are not ACTIVE is zeroed.
-fn clear_mortar_conditions(model: &mut ModelPart, pair: &mut PairSearch) {
+/// multiplier of ContactSub nodes that are not ACTIVE is zeroed. An entry without a paired
+/// condition (no `condition_name`) makes Kratos fail (Q18): an error in `kratos` mode, dropped
+/// in `robust` mode.
+fn clear_mortar_conditions(
+    model: &mut ModelPart,
+    pair: &mut PairSearch,
+    compatibility: Compatibility,
+) -> Result<(), Error> {
+    let inverted = pair.params.inverted_search;
+    for c in model.part(pair.sub).conditions().to_vec() {
+        if model.conditions().flags()[c.index()].is(Flag::SLAVE) == inverted {
+            continue;
+        }
+        let orphans: Vec<ConditionId> = model
+            .index_map(c)
+            .iter()
+            .filter(|(_, paired)| paired.is_none())
+            .map(|(master, _)| master)
+            .collect();
+        if orphans.is_empty() {
+            continue;
+        }
+        if compatibility == Compatibility::Kratos {
+            return Err(ErrorKind::RejectedByKratos(format!(
+                "pair {}: condition {} keeps master {} in its INDEX_MAP without a paired \
+                 condition (no `condition_name` in the C++ parameters); Kratos' \
+                 ClearMortarConditions then fails (\"Condition index not found: 0.\", Q18) — \
+                 a second step needs paired conditions, or \"compatibility\": \"robust\"",
+                pair.key,
+                model.conditions().ids()[c.index()],
+                orphans[0].get()
+            ))
+            .into());
+        }
+        for m in orphans {
+            model.index_map_mut(c).remove_id(m);
+        }
+    }
     let mut kept = Vec::new();
     for pc in pair.paired.drain(..) {
         if pc.active {
@@ -481,6 +564,7 @@ fn clear_mortar_conditions(model: &mut ModelPart, pair: &mut PairSearch) {
             col[n.index()] = Vector::zeros();
         }
     }
+    Ok(())
 }
 
 /// UpdateMortarConditions (§5) for the kd-tree path.

@@ -520,14 +520,14 @@ fn database_step_update_skips_steps_and_deactivates() {
     let mut search = ContactSearch::initialize(&mut model, &s).unwrap();
     let first = search.step(&mut model).unwrap();
     assert!(first.n_pairs() > 0 && first.nodes.values().all(|n| n.active));
-    search.finalize_step(&mut model);
+    search.finalize_step(&mut model).unwrap();
     model.process_info_mut().set_number("STEP", 2.0);
     let skipped = search.step(&mut model).unwrap();
     assert!(
         skipped.nodes.values().all(|n| !n.active),
         "Q36: deactivated in a skipped step"
     );
-    search.finalize_step(&mut model);
+    search.finalize_step(&mut model).unwrap();
     model.process_info_mut().set_number("STEP", 3.0);
     let third = search.step(&mut model).unwrap();
     assert_eq!(third.pairs, first.pairs);
@@ -568,4 +568,116 @@ fn adapt_search_scales_by_the_mesh_size_ratio() {
         .unwrap();
     let e = ContactSearch::initialize(&mut model, &s).unwrap_err();
     assert!(e.to_string().contains("Q33"), "{e}");
+}
+
+/// A multi-step run through [`ContactSearch::advance`]: the first step keeps STEP 1 and sets
+/// DELTA_TIME; later steps advance STEP and TIME and shift the buffer; the motion gives
+/// DISPLACEMENT, VELOCITY and ACCELERATION as a solver would (DESIGN.md §3).
+#[test]
+fn advance_moves_the_parts_with_kratos_buffer_semantics() {
+    use csm_model::VectorVar;
+    let mut model = plates(3, 0.01, false);
+    let s = setup(
+        "{}",
+        r#", "steps": [
+            {"delta_time": 0.5, "move": {"Slave": {"translate": [0, 0, -0.002]}}},
+            {"delta_time": 0.25, "move": {"Slave": {"translate": [0, 0, -0.004]}}}]"#,
+    );
+    let slave = model.find_part("Slave").unwrap();
+    let node = model.part(slave).nodes()[0].index();
+    let master_node = model.part(model.find_part("Master").unwrap()).nodes()[0].index();
+    let z0 = model.nodes().coordinates()[node].z;
+    let mut search = ContactSearch::initialize(&mut model, &s).unwrap();
+    let z = |var, step, m: &ModelPart| m.nodal_data().vector(var, step).unwrap()[node].z;
+    search.advance(&mut model, &s.steps[0]).unwrap();
+    let pi = model.process_info();
+    assert_eq!(
+        (
+            pi.number("STEP"),
+            pi.number("TIME"),
+            pi.number("DELTA_TIME")
+        ),
+        (Some(1.0), Some(1.0), Some(0.5))
+    );
+    assert!((model.nodes().coordinates()[node].z - (z0 - 0.002)).abs() < 1e-15);
+    assert!((z(VectorVar::Velocity, 0, &model) + 0.004).abs() < 1e-12);
+    search.step(&mut model).unwrap();
+    search.finalize_step(&mut model).unwrap();
+    search.advance(&mut model, &s.steps[1]).unwrap();
+    let pi = model.process_info();
+    assert_eq!(
+        (
+            pi.number("STEP"),
+            pi.number("TIME"),
+            pi.number("DELTA_TIME")
+        ),
+        (Some(2.0), Some(1.25), Some(0.25))
+    );
+    assert!((z(VectorVar::Displacement, 0, &model) + 0.006).abs() < 1e-12);
+    assert!((z(VectorVar::Velocity, 1, &model) + 0.004).abs() < 1e-12);
+    assert!((z(VectorVar::Velocity, 0, &model) + 0.016).abs() < 1e-12);
+    assert!((z(VectorVar::Acceleration, 0, &model) + 0.048).abs() < 1e-12);
+    let still = model.nodal_data().vector(VectorVar::Velocity, 0).unwrap()[master_node];
+    assert_eq!(
+        still,
+        csm_geometry::math::Vector::zeros(),
+        "unmoved nodes get a zero increment"
+    );
+    assert!(search.step(&mut model).unwrap().n_pairs() > 0);
+}
+
+/// Parts named in `steps` must exist and, within a step, share no node.
+#[test]
+fn step_parts_must_exist_and_be_disjoint() {
+    let mut model = plates(2, 0.01, false);
+    let s = setup(
+        "{}",
+        r#", "steps": [{"delta_time": 1, "move": {"Nope": {"translate": [0, 0, 1]}}}]"#,
+    );
+    let e = ContactSearch::initialize(&mut model, &s).unwrap_err();
+    assert!(
+        matches!(e.kind(), ErrorKind::InvalidValue { key, .. } if key == "steps[0].move.Nope"),
+        "{e}"
+    );
+    let mut model = plates(2, 0.01, false);
+    let slave = model.find_part("Slave").unwrap();
+    let nodes = model.part(slave).nodes().to_vec();
+    let both = model.create_part("Both").unwrap();
+    model.add_nodes_to_part(both, &nodes[..1]);
+    let s = setup(
+        "{}",
+        r#", "steps": [{"delta_time": 1, "move": {"Both": {}, "Slave": {}}}]"#,
+    );
+    let e = ContactSearch::initialize(&mut model, &s).unwrap_err();
+    assert!(
+        e.to_string().contains("`Both` and `Slave` share node"),
+        "{e}"
+    );
+}
+
+/// C++ parameters without `condition_name` create no paired conditions: Kratos'
+/// ResetContactOperators then fails on the INDEX_MAP entries at the end of the first step
+/// (Q18, "Condition index not found: 0." with Kratos 10.4.4); robust mode drops the entries.
+#[test]
+fn a_second_step_without_paired_conditions_fails_as_in_kratos() {
+    for (compat, fails) in [("kratos", true), ("robust", false)] {
+        let mut model = plates(3, 0.01, false);
+        let s = setup(
+            "{}",
+            &format!(
+                r#", "cpp_search_parameters": {{"type_search": "InRadius"}},
+                     "compatibility": "{compat}""#
+            ),
+        );
+        let mut search = ContactSearch::initialize(&mut model, &s).unwrap();
+        assert!(search.step(&mut model).unwrap().n_pairs() > 0);
+        let r = search.finalize_step(&mut model);
+        assert_eq!(r.is_err(), fails, "{compat}: {r:?}");
+        if let Err(e) = r {
+            assert!(e.to_string().contains("Q18"), "{e}");
+        } else {
+            model.advance_time_step(1.0);
+            assert!(search.step(&mut model).unwrap().n_pairs() > 0);
+        }
+    }
 }

@@ -104,13 +104,14 @@ pub(crate) const WRAPPER_DEFAULTS: &str = r#"{
 }"#;
 
 /// The top-level keys csm adds to Kratos' parameters (DESIGN.md §2).
-pub(crate) const CSM_KEYS: [&str; 6] = [
+pub(crate) const CSM_KEYS: [&str; 7] = [
     "compatibility",
     "strict",
     "process_info",
     "nodal_h",
     "cpp_search_parameters",
     "steps",
+    "nodal_values",
 ];
 
 /// `python_module`s of the contact processes whose `Parameters` a ProjectParameters file can

@@ -211,7 +211,7 @@ fn csm_keys() {
     let e = parse_err(&with("{}", r#", "nodal_h": -1"#));
     assert!(e.to_string().contains("positive"), "{e}");
     let e = parse_err(&with("{}", r#", "steps": []"#));
-    assert!(matches!(e.kind(), ErrorKind::NotImplemented(_)));
+    assert!(e.to_string().contains("a non-empty list of steps"), "{e}");
     let e = parse_err(r#"{"contact_model_part": {"0": []}}"#);
     assert!(
         matches!(e.kind(), ErrorKind::NotImplemented(_)),
@@ -260,4 +260,94 @@ fn explicit_penalty_defaults_to_the_octree() {
         s.pairs[&0].search.type_search,
         SearchTreeType::OctreeWithObb
     );
+}
+
+/// `steps` (DESIGN.md §3): typed, part-name order, rotation axis kept as given, centre
+/// optional; `nodal_values`.
+#[test]
+fn steps_and_nodal_values() {
+    let s = parse(&with(
+        "{}",
+        r#", "steps": [
+            {"delta_time": 0.5},
+            {"delta_time": 0.25, "move": {
+                "Upper": {"translate": [1, 2, 3]},
+                "A": {"rotate": {"axis": [0, 0, 2], "angle_deg": 90}}}}],
+           "nodal_values": [{"part": "S", "variable": "ACCELERATION", "buffer": 1,
+                             "value": [-9.81, 0, 0]}]"#,
+    ));
+    assert_eq!(s.steps.len(), 2);
+    assert_eq!(s.steps[0].delta_time, 0.5);
+    assert!(s.steps[0].moves.is_empty());
+    let parts: Vec<&str> = s.steps[1].moves.iter().map(|m| m.part.as_str()).collect();
+    assert_eq!(parts, ["A", "Upper"]);
+    let r = s.steps[1].moves[0].motion.rotate.unwrap();
+    assert_eq!((r.axis.z, r.angle_deg, r.centre.x), (2.0, 90.0, 0.0));
+    // A quarter turn about z moves (1, 0, 0) to (0, 1, 0).
+    let p = s.steps[1].moves[0]
+        .motion
+        .apply(&csm_geometry::math::Point::new(1.0, 0.0, 0.0));
+    assert!((p.x).abs() < 1e-15 && (p.y - 1.0).abs() < 1e-15, "{p:?}");
+    assert_eq!(s.steps[1].moves[1].motion.translate.y, 2.0);
+    assert_eq!(s.nodal_values.len(), 1);
+    assert_eq!(s.nodal_values[0].buffer, 1);
+    assert_eq!(s.nodal_values[0].value.x, -9.81);
+}
+
+/// Bad step input is an error at the line of the offending entry, never a panic.
+#[test]
+fn bad_steps_name_the_entry_and_its_line() {
+    let text = |step2: &str| {
+        format!(
+            "{{\n \"contact_model_part\": {{\"0\": [\"S\", \"M\"]}},\n \
+             \"assume_master_slave\": {{\"0\": [\"S\"]}},\n \"steps\": [\n  \
+             {{\"delta_time\": 1.0}},\n  {step2}\n ]\n}}\n"
+        )
+    };
+    let cases = [
+        (
+            r#"{"delta_time": 0}"#,
+            "`steps[1].delta_time`: expected a positive finite number",
+        ),
+        (r#"{"delta_time": -1}"#, "positive finite number"),
+        (r#"{"delta_time": "1"}"#, "positive finite number"),
+        (r#"{"move": {}}"#, "`steps[1]`: expected a `delta_time`"),
+        (
+            r#"{"delta_time": 1, "mvoe": {}}"#,
+            "`steps[1].mvoe`: expected one of the keys",
+        ),
+        (
+            r#"{"delta_time": 1, "move": {"S": {"translate": [1, 2]}}}"#,
+            "`steps[1].move.S.translate`: expected a list of 3 finite numbers",
+        ),
+        (
+            r#"{"delta_time": 1, "move": {"S": {"rotate": {"axis": [0, 0, 0], "angle_deg": 1}}}}"#,
+            "a non-zero axis",
+        ),
+        (
+            r#"{"delta_time": 1, "move": {"S": {"rotate": {"axis": [0, 0, 1]}}}}"#,
+            "`steps[1].move.S.rotate.angle_deg`: expected a finite number",
+        ),
+        (
+            r#"{"delta_time": 1, "move": ["S"]}"#,
+            "`steps[1].move`: expected an object",
+        ),
+        ("7", "`steps[1]`: expected an object"),
+    ];
+    for (step, expected) in cases {
+        let e = parse_err(&text(step));
+        let message = e.to_string();
+        assert!(message.starts_with("setup.json:6: "), "{step}: {message}");
+        assert!(message.contains(expected), "{step}: {message}");
+    }
+    // NaN is not JSON: the parser's error, with its line.
+    let e = parse_err(&text(r#"{"delta_time": NaN}"#));
+    assert!(e.to_string().starts_with("setup.json:6:"), "{e}");
+    let e = parse_err(&with("{}", r#", "steps": {"delta_time": 1}"#));
+    assert!(e.to_string().contains("a non-empty list of steps"), "{e}");
+    let e = parse_err(&with(
+        "{}",
+        r#", "nodal_values": [{"part": "S", "variable": "NORMAL", "value": [0, 0, 1]}]"#,
+    ));
+    assert!(e.to_string().contains("`nodal_values[0].variable`"), "{e}");
 }

@@ -2,6 +2,9 @@
 
 use std::collections::BTreeMap;
 
+use csm_geometry::math::{Point, Real, Vector};
+use csm_model::VectorVar;
+
 /// Which behaviour csm reproduces where Kratos is fragile (DESIGN.md §2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Compatibility {
@@ -187,6 +190,12 @@ pub struct SearchSetup {
     pub nodal_h: Option<f64>,
     /// True when `"cpp_search_parameters"` gave the C++ parameters verbatim.
     pub cpp_search_parameters: bool,
+    /// `"nodal_values"`: historical vector values set on the nodes of parts before the first
+    /// step (e.g. the previous step's ACCELERATION of Kratos' dynamic-search test).
+    pub nodal_values: Vec<NodalValueSetup>,
+    /// `"steps"`: the steps of a multi-step run, each with its rigid increments; empty for a
+    /// single search step without motion.
+    pub steps: Vec<StepSetup>,
     /// Silent fallbacks and dropped keys, in the order met.
     pub warnings: Vec<String>,
     /// The setup file's name and text, so that errors met later (an unknown part name, …)
@@ -209,5 +218,174 @@ impl SetupSource {
         self.text
             .find(needle)
             .map(|pos| self.text[..pos].matches('\n').count() + 1)
+    }
+
+    /// The 1-based line of a key given by a path with list indices, e.g.
+    /// `steps[1].move.Parts_Upper.rotate.axis` (csm's `steps` and `nodal_values` entries), or
+    /// `None` when the path has no index (see [`line_of_key_path`]).
+    pub fn line_of_indexed_key(&self, path: &str) -> Option<usize> {
+        line_of_key_path(&self.text, path)
+    }
+}
+
+/// The 1-based line of `path` in `text` when its first segment is `<list>[<i>]`: the list
+/// entry is found by scanning the JSON tokens (strings, nesting), then every following segment
+/// is searched as `"segment"` inside that entry, each after the previous one; the line of the
+/// last one found (at least the entry's) is returned. `None` without an index or when the list
+/// or entry is not in the text.
+pub(crate) fn line_of_key_path(text: &str, path: &str) -> Option<usize> {
+    let (head, rest) = path.split_once('.').unwrap_or((path, ""));
+    let (list, index) = head.strip_suffix(']')?.split_once('[')?;
+    let index: usize = index.parse().ok()?;
+    let (start, end) = list_entry_span(text, list, index)?;
+    let mut at = start;
+    for segment in rest.split('.').filter(|s| !s.is_empty()) {
+        let needle = format!("\"{segment}\"");
+        match text[at..end].find(&needle) {
+            Some(pos) => at += pos,
+            None => break,
+        }
+    }
+    Some(text[..at].matches('\n').count() + 1)
+}
+
+/// Byte span of entry `index` of the first JSON list under the key `"list"`.
+fn list_entry_span(text: &str, list: &str, index: usize) -> Option<(usize, usize)> {
+    let key = format!("\"{list}\"");
+    let mut pos = text.find(&key)? + key.len();
+    let bytes = text.as_bytes();
+    while pos < bytes.len() && (bytes[pos].is_ascii_whitespace() || bytes[pos] == b':') {
+        pos += 1;
+    }
+    if bytes.get(pos) != Some(&b'[') {
+        return None;
+    }
+    pos += 1;
+    let (mut depth, mut in_string, mut escaped) = (0usize, false, false);
+    let (mut current, mut entry_start) = (0usize, None);
+    for (i, &b) in bytes.iter().enumerate().skip(pos) {
+        if in_string {
+            match (escaped, b) {
+                (true, _) => escaped = false,
+                (false, b'\\') => escaped = true,
+                (false, b'"') => in_string = false,
+                _ => {}
+            }
+            continue;
+        }
+        match b {
+            b'"' => {
+                in_string = true;
+                if depth == 0 && entry_start.is_none() {
+                    entry_start = Some(i);
+                }
+            }
+            b'{' | b'[' => {
+                if depth == 0 && entry_start.is_none() {
+                    entry_start = Some(i);
+                }
+                depth += 1;
+            }
+            b'}' | b']' if depth > 0 => depth -= 1,
+            b']' | b',' if depth == 0 => {
+                if current == index {
+                    return entry_start.map(|s| (s, i));
+                }
+                if b == b']' {
+                    return None;
+                }
+                current += 1;
+                entry_start = None;
+            }
+            b if depth == 0 && !b.is_ascii_whitespace() && entry_start.is_none() => {
+                entry_start = Some(i);
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
+/// One entry of `"nodal_values"`: `{"part": "<path>", "variable": "ACCELERATION", "buffer": 1,
+/// "value": [x, y, z]}` sets the historical vector variable at that buffer index (0 = current
+/// step, 1 = previous step) on every node of the part.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NodalValueSetup {
+    /// Full path of the part.
+    pub part: String,
+    /// `DISPLACEMENT`, `VELOCITY` or `ACCELERATION`.
+    pub variable: VectorVar,
+    /// Buffer index: 0 (current step) or 1 (previous step).
+    pub buffer: usize,
+    /// The value.
+    pub value: Vector,
+}
+
+/// One step of a multi-step run (`"steps"` entry `{"delta_time": dt, "move": {...}}`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepSetup {
+    /// `delta_time` (> 0): ProcessInfo DELTA_TIME of the step; TIME advances by it.
+    pub delta_time: Real,
+    /// The rigid increment of each named part, in part-name order (a node in no named part
+    /// does not move).
+    pub moves: Vec<PartMotion>,
+}
+
+/// The rigid increment of one part in one step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PartMotion {
+    /// Full path of the part.
+    pub part: String,
+    /// The increment.
+    pub motion: RigidMotion,
+}
+
+/// A rigid increment: an optional rotation about an axis through a centre, then a translation
+/// (`{"translate": [x, y, z], "rotate": {"axis": [x, y, z], "angle_deg": a, "centre": [x, y, z]}}`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigidMotion {
+    /// Translation, applied after the rotation.
+    pub translate: Vector,
+    /// Rotation, applied first.
+    pub rotate: Option<Rotation>,
+}
+
+/// A rotation by `angle_deg` degrees about the axis through `centre` (right-hand rule).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rotation {
+    /// The axis as given (non-zero; normalised when applied).
+    pub axis: Vector,
+    /// The angle in degrees.
+    pub angle_deg: Real,
+    /// A point on the axis.
+    pub centre: Point,
+}
+
+impl RigidMotion {
+    /// The new position of `p`: `c + (v cos a + (k × v) sin a + k (k · v)(1 − cos a)) + t`
+    /// with `v = p − c` and `k` the unit axis (Rodrigues), evaluated component by component in
+    /// this exact order (`tools/kratos_fixtures_steps.py` computes the Kratos side the same way,
+    /// so both codes see bit-identical coordinates).
+    pub fn apply(&self, p: &Point) -> Point {
+        let (mut x, mut y, mut z) = (p.x, p.y, p.z);
+        if let Some(r) = &self.rotate {
+            let (a0, a1, a2) = (r.axis.x, r.axis.y, r.axis.z);
+            let n = (a0 * a0 + a1 * a1 + a2 * a2).sqrt();
+            let (k0, k1, k2) = (a0 / n, a1 / n, a2 / n);
+            let (c0, c1, c2) = (r.centre.x, r.centre.y, r.centre.z);
+            let angle = r.angle_deg * (std::f64::consts::PI / 180.0);
+            let (cos, sin) = (angle.cos(), angle.sin());
+            let (v0, v1, v2) = (x - c0, y - c1, z - c2);
+            let (w0, w1, w2) = (k1 * v2 - k2 * v1, k2 * v0 - k0 * v2, k0 * v1 - k1 * v0);
+            let f = (k0 * v0 + k1 * v1 + k2 * v2) * (1.0 - cos);
+            x = c0 + (v0 * cos + w0 * sin + k0 * f);
+            y = c1 + (v1 * cos + w1 * sin + k1 * f);
+            z = c2 + (v2 * cos + w2 * sin + k2 * f);
+        }
+        Point::new(
+            x + self.translate.x,
+            y + self.translate.y,
+            z + self.translate.z,
+        )
     }
 }
