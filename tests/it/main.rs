@@ -2,6 +2,7 @@
 
 mod cli_demo;
 mod cli_info;
+mod cli_plan;
 mod cli_search;
 mod kratos_conformance;
 mod kratos_search;

@@ -10,9 +10,13 @@
 //! ([`normal_check`], stage 2), [`master_slave_from_nodes`] (stage 3), [`dispatch`] (stage 4),
 //! the life cycle with `database_step_update` (stage 5), the kd-tree broad phase (`in_radius`,
 //! `in_box`), the OBB and 18-DOP narrow phases (stages 6–7), the candidate filters and the
-//! No/Direct/MappingCheck pairing (stage 8), dynamic and inverted search. Not yet: the octree
-//! path, self-contact (roles not predefined) and the MappingCheck mortar pruning (the gap
-//! and activation issue).
+//! No/Direct/MappingCheck pairing (stage 8), the octree path, dynamic and inverted search,
+//! and through `csm-activation` the MappingCheck mortar pruning, the weighted gap and the
+//! activation (stage 9).
+//!
+//! [`Plan`] says which stages run and which structures are built for a model and a setup, and
+//! why each other one is left out (`csm plan`); [`ContactSearch`] makes the same plan and
+//! follows it, so nothing a scene or setup does not need is run or allocated.
 //!
 //! **Architecture Invariant:** `csm-search` depends on `csm-activation`, `csm-model`,
 //! `csm-trees` and `csm-geometry`, never on `csm-io` or the facade: it works on a
@@ -30,4 +34,6 @@ pub use setup::{
 };
 pub use stages::*;
 mod pipeline;
+mod plan;
 pub use pipeline::*;
+pub use plan::*;

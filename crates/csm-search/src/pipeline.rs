@@ -19,6 +19,7 @@ mod shared_conditions;
 mod step_jump;
 
 pub use result::{NodeResult, SearchResult};
+pub(crate) use search::locate;
 pub use search::{ContactSearch, PairedCondition};
 
 #[cfg(test)]
