@@ -37,6 +37,19 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Print which stages will run and which structures will be built or allocated for a
+    /// mesh and a setup, and why each other one is left out. Reads the mesh and the setup as
+    /// `csm search` does; runs nothing.
+    Plan {
+        /// The mesh: a Kratos `.mdpa` or a Gmsh `.msh`.
+        mesh: PathBuf,
+        /// The setup, as for `csm search` (default: the parts `slave` and `master`).
+        #[arg(long)]
+        setup: Option<PathBuf>,
+        /// Print JSON ({"format": "csm-plan/1", "initialize", "variables", "pairs"}).
+        #[arg(long)]
+        json: bool,
+    },
     /// Print the parts of a mesh (full paths) with node/element/condition counts and geometry types.
     Info {
         /// The mesh: a Kratos `.mdpa` or a Gmsh `.msh` (2.2 or 4.1, ASCII or binary).
@@ -102,9 +115,9 @@ fn run(cli: Cli) -> Result<(), String> {
             if json {
                 let text = serde_json::to_string_pretty(&info.to_json())
                     .map_err(|e| format!("cannot format JSON: {e}"))?;
-                println!("{text}");
+                out(&format!("{text}\n"))?;
             } else {
-                print!("{}", info.to_text(&mesh.display().to_string()));
+                out(&info.to_text(&mesh.display().to_string()))?;
             }
             Ok(())
         }
@@ -131,14 +144,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 model.conditions().len(),
                 model.parts().len()
             ));
-            let setup = match &setup {
-                Some(path) => {
-                    let text = std::fs::read_to_string(path)
-                        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-                    csm::cli::load_setup(&text, &path.display().to_string())?
-                }
-                None => csm::cli::default_setup(&model)?,
-            };
+            let setup = csm::cli::setup_for(setup.as_deref(), &model)?;
             let options = RunOptions {
                 progress: csm::cli::progress_wanted(quiet),
             };
@@ -146,7 +152,7 @@ fn run(cli: Cli) -> Result<(), String> {
             let json = result_json(&result, &timings)?;
             match &output {
                 Some(path) => write(path, json)?,
-                None => print!("{json}"),
+                None => out(&json)?,
             }
             if let Some(path) = &vtk {
                 csm::cli::write_search_vtu(&model, &result, path)?;
@@ -170,6 +176,22 @@ fn run(cli: Cli) -> Result<(), String> {
                 for w in &result.warnings {
                     eprintln!("warning: {w}");
                 }
+            }
+            Ok(())
+        }
+        Command::Plan { mesh, setup, json } => {
+            let model = csm::io::read_mesh(&mesh).map_err(|e| e.to_string())?;
+            let setup = csm::cli::setup_for(setup.as_deref(), &model)?;
+            let plan = csm::cli::search_plan(&model, &setup)?;
+            if json {
+                let text = serde_json::to_string_pretty(&plan.to_json())
+                    .map_err(|e| format!("cannot format JSON: {e}"))?;
+                out(&format!("{text}\n"))?;
+            } else {
+                out(&plan.to_string())?;
+            }
+            for w in &setup.warnings {
+                eprintln!("warning: {w}");
             }
             Ok(())
         }
@@ -238,6 +260,22 @@ fn result_json(
     let json = serde_json::to_string_pretty(&result.to_json(&timings.entries()))
         .map_err(|e| format!("cannot format JSON: {e}"))?;
     Ok(json + "\n")
+}
+
+/// Writes `text` to standard output; a closed pipe (`csm plan … | head`) ends the output
+/// quietly instead of panicking as `print!` does.
+fn out(text: &str) -> Result<(), String> {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    match stdout
+        .write_all(text.as_bytes())
+        .and_then(|()| stdout.flush())
+    {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(format!("cannot write to standard output: {e}"))
+        }
+        _ => Ok(()),
+    }
 }
 
 fn write(path: &Path, text: String) -> Result<(), String> {

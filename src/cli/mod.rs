@@ -6,12 +6,13 @@ mod info;
 pub mod logger;
 mod progress;
 mod search;
-#[cfg(feature = "io")]
 mod vtk;
 
 pub use demo::{DEFAULT_FACES, DemoScene, MAX_FACES, demo_scene, demo_summary};
 pub use info::{MeshInfo, PartInfo, mesh_info};
 pub use progress::{Progress, progress_wanted};
-pub use search::{RunOptions, Timings, default_setup, load_setup, run_search, run_search_with};
-#[cfg(feature = "io")]
+pub use search::{
+    RunOptions, Timings, default_setup, load_setup, run_search, run_search_with, search_plan,
+    setup_for,
+};
 pub use vtk::{search_vtu, write_search_vtu};

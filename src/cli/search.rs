@@ -1,10 +1,12 @@
 //! `csm search`: read a mesh and a setup, run the search (one step, or every step of the
-//! setup's `steps`), report RESULT.json.
+//! setup's `steps`), report RESULT.json; and
+//! `csm plan`, which reads them the same way and says what the search would run.
 
+use std::path::Path;
 use std::time::Instant;
 
 use csm_model::ModelPart;
-use csm_search::{ContactSearch, SearchResult, SearchSetup, StepResult, parse_setup};
+use csm_search::{ContactSearch, Plan, SearchResult, SearchSetup, StepResult, parse_setup};
 
 use crate::cli::logger;
 use crate::cli::progress::Progress;
@@ -70,6 +72,25 @@ pub fn default_setup(model: &ModelPart) -> Result<SearchSetup, String> {
 /// Parses setup text (`file` names it in errors).
 pub fn load_setup(text: &str, file: &str) -> Result<SearchSetup, String> {
     parse_setup(text, file).map_err(|e| e.to_string())
+}
+
+/// The setup of `csm search` and `csm plan`: the file at `path` (`--setup`), else
+/// [`default_setup`].
+pub fn setup_for(path: Option<&Path>, model: &ModelPart) -> Result<SearchSetup, String> {
+    match path {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+            load_setup(&text, &path.display().to_string())
+        }
+        None => default_setup(model),
+    }
+}
+
+/// `csm plan`: what a search of `model` with `setup` will run and build, and why the rest is
+/// left out ([`Plan::new`]; the same plan [`ContactSearch::initialize`] follows).
+pub fn search_plan(model: &ModelPart, setup: &SearchSetup) -> Result<Plan, String> {
+    Plan::new(model, setup).map_err(|e| e.to_string())
 }
 
 /// How [`run_search_with`] reports while it runs.

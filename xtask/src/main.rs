@@ -1,7 +1,12 @@
 //! Project automation for csm (`cargo xtask <command>`), in Rust rather than shell.
 //!
 //! - `cargo xtask ci`: exactly what CI runs: `cargo fmt --check`, `cargo clippy -D warnings`
-//!   over every target, and every test (insta snapshots fail when missing or changed).
+//!   over every target, every test (insta snapshots fail when missing or changed), then the
+//!   feature matrix.
+//! - `cargo xtask features`: the feature matrix alone: `cargo clippy -D warnings` of the
+//!   facade with no feature and with each feature alone, of `csm-io` likewise, and `csm-io`'s
+//!   unit tests without its default features (a user of one layer or one format compiles
+//!   nothing else, and that must build cleanly).
 //! - `cargo xtask fixtures`: regenerates the Kratos reference fixtures under `tests/fixtures/`
 //!   by driving Kratos 10.4.4 (PyPI) with one thread through `tools/kratos_fixtures*.py`
 //!   (`kratos_fixtures_steps.py`: multi-step runs and the dynamic-search test). The
@@ -25,9 +30,10 @@ fn main() -> Result<()> {
     match args.first().map(String::as_str) {
         Some("ci") => ci(),
         Some("snapshots") => snapshots(),
+        Some("features") => features(),
         Some("fixtures") => fixtures(),
         _ => {
-            eprintln!("usage: cargo xtask <ci|snapshots|fixtures>");
+            eprintln!("usage: cargo xtask <ci|snapshots|features|fixtures>");
             bail!("unknown or missing command")
         }
     }
@@ -71,8 +77,47 @@ fn ci() -> Result<()> {
         &[],
     )?;
     cargo(&["test", "--workspace", "--all-targets"], &TEST_ENV)?;
+    features()?;
     eprintln!("xtask ci: all checks passed");
     Ok(())
+}
+
+/// The facade's features, each checked alone (`cli` is the default set, which the workspace
+/// clippy run checks).
+const FACADE_FEATURES: [&str; 10] = [
+    "",
+    "geometry",
+    "trees",
+    "model",
+    "activation",
+    "search",
+    "msh",
+    "mdpa",
+    "vtk",
+    "io",
+];
+
+/// `csm-io`'s features, each checked alone.
+const IO_FEATURES: [&str; 4] = ["", "msh", "mdpa", "vtu"];
+
+/// The feature matrix (see the module docs). `clippy` rather than `check`, so that code a
+/// feature leaves unused fails (`-D warnings`); dependencies are checked once per feature
+/// set and reused.
+fn features() -> Result<()> {
+    for (package, features) in [("csm", &FACADE_FEATURES[..]), ("csm-io", &IO_FEATURES[..])] {
+        for f in features {
+            let mut args = vec!["clippy", "--quiet", "-p", package, "--no-default-features"];
+            if !f.is_empty() {
+                args.extend(["--features", f]);
+            }
+            args.extend(["--lib", "--", "-D", "warnings"]);
+            cargo(&args, &[])?;
+        }
+    }
+    cargo(
+        &["test", "-p", "csm-io", "--no-default-features", "--lib"],
+        &TEST_ENV,
+    )
 }
 
 fn snapshots() -> Result<()> {

@@ -3,6 +3,9 @@
 //! where it is, so every error carries `file:line` (text) or the byte offset and section
 //! (binary).
 
+// With one reader compiled in, the helpers only the other one uses are unused.
+#![cfg_attr(not(all(feature = "msh", feature = "mdpa")), allow(dead_code))]
+
 use nom::IResult;
 use nom::Parser;
 use nom::bytes::complete::{tag, take_till, take_till1, take_until};

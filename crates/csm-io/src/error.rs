@@ -37,6 +37,8 @@ pub enum ErrorKind {
     Io(String),
     /// The file name has no extension csm can read (`.msh`, `.mdpa`).
     UnsupportedExtension(String),
+    /// A format csm-io reads, but whose cargo feature (`msh`, `mdpa`) was off at build time.
+    FormatNotCompiled(String),
     /// The file is empty (or holds only whitespace and comments).
     Empty,
     /// Something else was expected here.
@@ -117,6 +119,10 @@ impl fmt::Display for Error {
             ErrorKind::UnsupportedExtension(ext) => write!(
                 f,
                 "expected a mesh file ending in .msh or .mdpa, found extension `{ext}`"
+            ),
+            ErrorKind::FormatNotCompiled(ext) => write!(
+                f,
+                "csm was built without the `{ext}` feature: it cannot read .{ext} files"
             ),
             ErrorKind::Empty => f.write_str("expected a mesh, found an empty file"),
             ErrorKind::Expected { expected, found } => {

@@ -10,19 +10,30 @@
 //!   `file:line: expected …, found …` for text, the byte offset and section for binary
 //!   Gmsh data. A truncated or garbled file gives an error, never a panic.
 //!
+//! Cargo features (all on by default): `msh` ([`read_msh`]), `mdpa` ([`read_mdpa`]), `vtu`
+//! ([`VtuWriter`]); [`read_mesh`] reads the formats that are compiled in and names the
+//! missing feature for the others.
+//!
 //! **Architecture Invariant:** `csm-io` depends only on `csm-model` and `csm-geometry`
 //! (and `nom`). It knows nothing of the search: it fills a model part and writes one.
 #![deny(missing_docs)]
 
+#[cfg(any(feature = "msh", feature = "mdpa"))]
 mod cursor;
 mod error;
+#[cfg(feature = "mdpa")]
 mod mdpa;
+#[cfg(feature = "msh")]
 mod msh;
 mod read_mesh;
+#[cfg(feature = "vtu")]
 mod vtu;
 
 pub use error::{Error, ErrorKind, Location};
+#[cfg(feature = "mdpa")]
 pub use mdpa::read_mdpa;
+#[cfg(feature = "msh")]
 pub use msh::read_msh;
 pub use read_mesh::read_mesh;
+#[cfg(feature = "vtu")]
 pub use vtu::{DataArray, VtuWriter, vtk_cell_type};

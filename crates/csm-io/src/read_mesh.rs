@@ -5,10 +5,10 @@ use std::path::Path;
 use csm_model::ModelPart;
 
 use crate::error::{Error, ErrorKind, Location};
-use crate::{read_mdpa, read_msh};
 
-/// Reads the mesh at `path` into a model part named `Structure`: `.msh` with [`read_msh`],
-/// `.mdpa` with [`read_mdpa`] (extensions compared case-insensitively).
+/// Reads the mesh at `path` into a model part named `Structure`: `.msh` with `read_msh`,
+/// `.mdpa` with `read_mdpa` (extensions compared case-insensitively). A format whose cargo
+/// feature (`msh`, `mdpa`) is off gives [`ErrorKind::FormatNotCompiled`].
 pub fn read_mesh(path: &Path) -> Result<ModelPart, Error> {
     let file = path.display().to_string();
     let ext = path
@@ -23,12 +23,45 @@ pub fn read_mesh(path: &Path) -> Result<ModelPart, Error> {
             ErrorKind::UnsupportedExtension(ext),
         ));
     }
+    if (ext == "msh" && !cfg!(feature = "msh")) || (ext == "mdpa" && !cfg!(feature = "mdpa")) {
+        return Err(Error::new(
+            &file,
+            Location::None,
+            ErrorKind::FormatNotCompiled(ext),
+        ));
+    }
     let bytes = std::fs::read(path)
         .map_err(|e| Error::new(&file, Location::None, ErrorKind::Io(e.to_string())))?;
+    read_bytes(&ext, &bytes, &file)
+}
+
+#[cfg(all(feature = "msh", feature = "mdpa"))]
+fn read_bytes(ext: &str, bytes: &[u8], file: &str) -> Result<ModelPart, Error> {
     if ext == "msh" {
-        read_msh(&bytes, &file)
+        crate::read_msh(bytes, file)
     } else {
-        let text = String::from_utf8_lossy(&bytes);
-        read_mdpa(&text, &file)
+        crate::read_mdpa(&String::from_utf8_lossy(bytes), file)
     }
 }
+
+#[cfg(all(feature = "msh", not(feature = "mdpa")))]
+fn read_bytes(_ext: &str, bytes: &[u8], file: &str) -> Result<ModelPart, Error> {
+    crate::read_msh(bytes, file)
+}
+
+#[cfg(all(feature = "mdpa", not(feature = "msh")))]
+fn read_bytes(_ext: &str, bytes: &[u8], file: &str) -> Result<ModelPart, Error> {
+    crate::read_mdpa(&String::from_utf8_lossy(bytes), file)
+}
+
+#[cfg(not(any(feature = "msh", feature = "mdpa")))]
+fn read_bytes(ext: &str, _bytes: &[u8], file: &str) -> Result<ModelPart, Error> {
+    Err(Error::new(
+        file,
+        Location::None,
+        ErrorKind::FormatNotCompiled(ext.to_owned()),
+    ))
+}
+
+#[cfg(test)]
+mod tests;

@@ -120,6 +120,35 @@ impl NodalData {
             .or_insert_with(|| vec![vec![Vector::zeros(); n]; Self::steps_of(var.is_historical())]);
     }
 
+    /// Adds `var` (zero on every node) if absent, keeping only the current step even when
+    /// Kratos keeps the variable's history: for runs in which no stage reads step 1
+    /// (`scalar(var, 1)` is then `None`, and [`NodalData::clone_solution_step`] leaves it).
+    pub fn add_scalar_current(&mut self, var: ScalarVar) {
+        let n = self.n_nodes;
+        self.scalars
+            .entry(var)
+            .or_insert_with(|| vec![vec![0.0; n]]);
+    }
+
+    /// [`NodalData::add_scalar_current`] for a vector variable.
+    pub fn add_vector_current(&mut self, var: VectorVar) {
+        let n = self.n_nodes;
+        self.vectors
+            .entry(var)
+            .or_insert_with(|| vec![vec![Vector::zeros(); n]]);
+    }
+
+    /// The number of steps kept for `var` (0 if absent; 1 for plain variables and for
+    /// historical ones added without history).
+    pub fn scalar_steps(&self, var: ScalarVar) -> usize {
+        self.scalars.get(&var).map_or(0, Vec::len)
+    }
+
+    /// [`NodalData::scalar_steps`] for a vector variable.
+    pub fn vector_steps(&self, var: VectorVar) -> usize {
+        self.vectors.get(&var).map_or(0, Vec::len)
+    }
+
     /// True if `var` was added.
     pub fn has_scalar(&self, var: ScalarVar) -> bool {
         self.scalars.contains_key(&var)

@@ -16,6 +16,10 @@
 //! `docs/steps.md`). Not yet: self-contact (roles not predefined; Kratos 10.4.4 fails there
 //! too, Q47).
 //!
+//! [`Plan`] says which stages run and which structures are built for a model and a setup, and
+//! why each other one is left out (`csm plan`); [`ContactSearch`] makes the same plan and
+//! follows it, so nothing a scene or setup does not need is run or allocated.
+//!
 //! **Architecture Invariant:** `csm-search` depends on `csm-activation`, `csm-model`,
 //! `csm-trees` and `csm-geometry`, never on `csm-io` or the facade: it works on a
 //! `ModelPart` in memory and knows nothing of files (the setup text is given to it).
@@ -33,4 +37,6 @@ pub use setup::{
 };
 pub use stages::*;
 mod pipeline;
+mod plan;
 pub use pipeline::*;
+pub use plan::*;

@@ -21,6 +21,7 @@ mod shared_conditions;
 mod step_jump;
 
 pub use result::{NodeResult, SearchResult, StepResult};
+pub(crate) use search::locate;
 pub use search::{ContactSearch, PairedCondition};
 
 #[cfg(test)]

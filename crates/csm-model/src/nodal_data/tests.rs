@@ -33,3 +33,23 @@ fn columns_grow_with_the_nodes() {
     assert_eq!(d.vector(VectorVar::Velocity, 1).unwrap().len(), 2);
     assert!(!d.has_vector(VectorVar::Acceleration));
 }
+
+#[test]
+fn variables_added_without_history_keep_one_step() {
+    let mut d = NodalData::default();
+    d.resize(2);
+    d.add_scalar_current(ScalarVar::NodalH);
+    d.add_vector_current(VectorVar::Normal);
+    assert_eq!(d.scalar_steps(ScalarVar::NodalH), 1);
+    assert_eq!(d.vector_steps(VectorVar::Normal), 1);
+    assert!(d.scalar(ScalarVar::NodalH, 1).is_none());
+    // A later `add_*` finds the variable present and leaves it as it is.
+    d.add_vector(VectorVar::Normal);
+    assert_eq!(d.vector_steps(VectorVar::Normal), 1);
+    d.clone_solution_step();
+    assert_eq!(d.scalar(ScalarVar::NodalH, 0).unwrap(), &[0.0, 0.0]);
+    // Variables added with history keep both steps.
+    d.add_scalar(ScalarVar::WeightedGap);
+    assert_eq!(d.scalar_steps(ScalarVar::WeightedGap), 2);
+    assert_eq!(d.scalar_steps(ScalarVar::NodalArea), 0);
+}

@@ -47,7 +47,12 @@ impl Bv {
 pub(crate) struct QueryContext<'a> {
     pub model: &'a ModelPart,
     pub params: &'a SearchParameters,
-    pub tree: &'a KdTree<u32>,
+    /// The OBB narrow phase runs ([`crate::PairPlan::obb_test`]); `master_bvs` holds the
+    /// master boxes.
+    pub obb_test: bool,
+    /// The 18-DOP narrow phase runs ([`crate::PairPlan::kdop`]); `master_kdops` holds the
+    /// master 18-DOPs.
+    pub kdop: bool,
     /// `bounding_box_factor × hmax`.
     pub bbf: Real,
     pub dim: usize,
@@ -60,10 +65,10 @@ pub(crate) struct QueryContext<'a> {
     pub nodal_normals: &'a [Vector],
     pub nodal_h: &'a [Real],
     pub active_check_factor: Real,
-    /// Master bounding boxes by condition index (`None`: not a point-list condition or not
-    /// needed).
+    /// Master bounding boxes by condition index (`None`: not a point-list condition; empty
+    /// without the OBB test).
     pub master_bvs: &'a [Option<Result<Bv, csm_geometry::Error>>],
-    /// Master 18-DOPs (enlarged by `bbf`) by condition index, for `kdop_18`.
+    /// Master 18-DOPs (enlarged by `bbf`) by condition index, for `kdop_18` (empty otherwise).
     pub master_kdops: &'a [Option<Kdop18>],
 }
 
@@ -83,16 +88,11 @@ fn geometry_error(model: &ModelPart, c: ConditionIdx, e: &csm_geometry::Error) -
     .into()
 }
 
-fn with_obb(t: SearchTreeType) -> bool {
-    matches!(
-        t,
-        SearchTreeType::KdtreeInRadiusWithObb | SearchTreeType::KdtreeInBoxWithObb
-    )
-}
-
-/// The candidates of slave `s`, in kd-tree result order (Kratos' traversal order).
+/// The candidates of slave `s` in `tree` (the master-side condition centres), in kd-tree
+/// result order (Kratos' traversal order).
 pub(crate) fn slave_candidates(
     cx: &QueryContext<'_>,
+    tree: &KdTree<u32>,
     s: ConditionIdx,
     out: &mut Vec<Candidate>,
 ) -> Result<(), Error> {
@@ -137,8 +137,7 @@ pub(crate) fn slave_candidates(
                 }
                 None => center,
             };
-            cx.tree
-                .in_radius(&query, radius, p.allocation_size, &mut found)
+            tree.in_radius(&query, radius, p.allocation_size, &mut found)
                 .map_err(tree_error)?;
         }
         SearchTreeType::KdtreeInBox | SearchTreeType::KdtreeInBoxWithObb => {
@@ -178,8 +177,7 @@ pub(crate) fn slave_candidates(
                     (aabb.min - margin, aabb.max + margin)
                 }
             };
-            cx.tree
-                .in_box(&lo, &hi, p.allocation_size, &mut found)
+            tree.in_box(&lo, &hi, p.allocation_size, &mut found)
                 .map_err(tree_error)?;
         }
     }
@@ -192,7 +190,7 @@ pub(crate) fn slave_candidates(
     // kdop_18: the slave's 18-DOP enlarged like the OBBs; in robust mode first swept along
     // the slave normal over the query radius, so a master up to that far in front of or
     // behind the face (penetration) is not lost.
-    let slave_kdop = (p.type_search == SearchTreeType::Kdop).then(|| {
+    let slave_kdop = cx.kdop.then(|| {
         let k = match cx.compatibility {
             Compatibility::Kratos => Kdop18::from_points(&points),
             Compatibility::Robust => Kdop18::swept(&points, &slave_normal, query_radius),
@@ -207,7 +205,7 @@ pub(crate) fn slave_candidates(
                 _ => continue,
             }
         }
-        if with_obb(p.type_search) {
+        if cx.obb_test {
             let bv = match &cx.master_bvs[master.index()] {
                 Some(Ok(bv)) => bv,
                 Some(Err(e)) => return Err(geometry_error(model, master, e)),

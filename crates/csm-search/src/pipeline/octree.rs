@@ -45,7 +45,7 @@ use std::collections::BTreeSet;
 use csm_geometry::math::{EPS, Point, Real, Vector};
 use csm_geometry::{Geometry, GeometryKind, ObbIntersection, SatMode};
 use csm_model::{ConditionId, ConditionIdx, Flag, ModelPart, NodeIdx, PartIdx, ScalarVar};
-use csm_trees::{KdTree, LeafId, Octree};
+use csm_trees::{LeafId, Octree};
 
 use super::candidates::{Bv, QueryContext, direct_check_nodes, slave_search_nodes};
 use super::filters::passes_orientation;
@@ -397,7 +397,6 @@ pub(crate) fn search_octree_report(
     report.n_leaves = search.octree.n_leaves();
 
     // 4. The serial loop.
-    let empty_tree: KdTree<u32> = KdTree::new(&[], p.bucket_size.max(1)).map_err(tree_error)?;
     let nodal_h = h.to_vec();
     let acf = model
         .process_info()
@@ -461,7 +460,8 @@ pub(crate) fn search_octree_report(
                                 let qcx = QueryContext {
                                     model,
                                     params: p,
-                                    tree: &empty_tree,
+                                    obb_test: false,
+                                    kdop: false,
                                     bbf,
                                     dim: cx.dim,
                                     slave_nodes: cx.slave_nodes,

@@ -21,13 +21,17 @@ use super::result::{NodeResult, SearchResult};
 use super::shared_conditions::check_contact_model_parts;
 use super::step_jump::compute_step_jump;
 use crate::error::{Error, ErrorKind};
+use crate::plan::{
+    Decision, NodalVariable, NormalCheck, PairPlan, Plan, Storage, VariablePlan, contact_sub_path,
+    missing_contact_sub, step_jump,
+};
 use crate::setup::{
-    CheckGap, Compatibility, ContactType, SearchParameters, SearchSetup, SearchTreeType, StepSetup,
+    CheckGap, Compatibility, SearchParameters, SearchSetup, SearchTreeType, StepSetup,
 };
 use crate::stages::{
     ContactParts, InterfaceSettings, NormalCheckSettings, SearchInstance, assign_contact_flags,
     dispatch, generate_interface_conditions, master_slave_from_nodes, normal_check,
-    transfer_to_contact,
+    normal_check_normals_only, transfer_to_contact,
 };
 
 /// The search of one pair key (one Kratos search process).
@@ -46,6 +50,8 @@ struct PairSearch {
 #[derive(Debug)]
 pub struct ContactSearch {
     setup: SearchSetup,
+    /// What runs, decided at the start of `initialize` (the step jump again every step).
+    plan: Plan,
     parts: ContactParts,
     pairs: Vec<PairSearch>,
     database_step: u32,
@@ -80,25 +86,26 @@ impl ContactSearch {
         model: &mut ModelPart,
         setup: &SearchSetup,
     ) -> Result<ContactSearch, Error> {
+        // What runs; every decision below that the plan makes is taken from it.
+        let plan = Plan::decide(model, setup)?;
+        let python_path = !setup.cpp_search_parameters;
         let mut setup = setup.clone();
         let mut warnings = setup.warnings.clone();
         // A `Contact` part in the mesh is reused (Kratos' path without preprocessing): no
         // stage 0 or 1, and the condition flags come from the nodal ones (stage 3,
         // MasterSlaveProcess, after the normal check).
         let existing = model.find_part("Contact");
-        // With `cpp_search_parameters` the C++ search process is driven directly, as Kratos'
-        // C++ tests do: no Python layer, so no interface preprocessing and no normal check.
-        let python_path = !setup.cpp_search_parameters;
         let parts = match existing {
             Some(contact) => existing_contact_parts(model, contact, &setup)?,
             None => {
                 let mut parts = assign_contact_flags(model, &setup)?;
                 // Stage 1 for every user part (Kratos calls GenerateInterfacePart on each: it only
                 // checks the properties when the part has conditions, else generates them). On
-                // the C++ path only parts that list nodes only get conditions, as Kratos' tests
-                // that drive the C++ process do before building it (test_dynamic_search.py,
-                // reference §20.2); parts with conditions are used as they are.
-                for (&key, pair) in &setup.pairs {
+                // the C++ path (no Python layer) only parts that list nodes only get conditions,
+                // as Kratos' tests that drive the C++ process do before building it
+                // (test_dynamic_search.py, reference §20.2); the plan says which.
+                let stage_1 = plan.interface.is_used();
+                for (&key, pair) in setup.pairs.iter().filter(|_| stage_1) {
                     for path in &pair.parts {
                         let part = model.get_part(path).map_err(model_error)?;
                         if !python_path && !model.part(part).conditions().is_empty() {
@@ -129,17 +136,23 @@ impl ContactSearch {
                 parts
             }
         };
-        emulate_python_state(model, &setup);
+        emulate_python_state(model, &setup, &plan.variables);
         // Stage 2 on the whole model (Python calls NormalCheckProcess on the main part).
         let normal_settings = NormalCheckSettings {
             length_proportion: setup.normal_check_proportion,
             compatibility: setup.compatibility,
             ..NormalCheckSettings::default()
         };
-        if python_path {
-            normal_check(model, &normal_settings)?;
+        match plan.normal_check {
+            Decision::Used(NormalCheck::Full { .. }) => {
+                normal_check(model, &normal_settings)?;
+            }
+            Decision::Used(NormalCheck::NormalsOnly) => {
+                normal_check_normals_only(model, &normal_settings)?;
+            }
+            Decision::LeftOut(_) => {}
         }
-        if existing.is_some() {
+        if plan.master_slave_from_nodes.is_used() {
             master_slave_from_nodes(model, parts.contact);
         }
         match setup.nodal_h {
@@ -152,7 +165,7 @@ impl ContactSearch {
         }
         apply_nodal_values(model, &setup.nodal_values)?;
         check_step_parts(model, &setup.steps)?;
-        if setup.adapt_search {
+        if plan.adapt_search.is_used() {
             // ContactUtilities::CalculateRelativeSizeMesh over every node (Q33: a node in no
             // element has DBL_MAX and makes the factor infinite).
             let h = model
@@ -242,6 +255,7 @@ impl ContactSearch {
         // sets it, so nothing to reset.
         Ok(ContactSearch {
             setup,
+            plan,
             parts,
             pairs,
             database_step: 0,
@@ -253,6 +267,13 @@ impl ContactSearch {
     /// The setup in force (after `adapt_search`).
     pub fn setup(&self) -> &SearchSetup {
         &self.setup
+    }
+
+    /// The plan the search follows: made at the start of [`ContactSearch::initialize`] from
+    /// the model as read ([`Plan::new`]), with the step jump of every pair as the last step
+    /// decided it.
+    pub fn plan(&self) -> &Plan {
+        &self.plan
     }
 
     /// The paired conditions of pair `key` after the last step.
@@ -294,8 +315,12 @@ impl ContactSearch {
                     python_path: !self.setup.cpp_search_parameters,
                 };
                 let pair = &mut self.pairs[i];
+                // Every key of the setup has its pair plan (both come from `setup.pairs`).
+                let Some(pair_plan) = self.plan.pairs.get_mut(&pair.key) else {
+                    continue;
+                };
                 clear_mortar_conditions(model, pair, run.compatibility)?;
-                let step_warnings = update_mortar_conditions(model, pair, run)?;
+                let step_warnings = update_mortar_conditions(model, pair, pair_plan, run)?;
                 for w in step_warnings {
                     if !self.warnings.contains(&w) {
                         self.warnings.push(w);
@@ -415,7 +440,7 @@ impl ContactSearch {
 }
 
 /// Points an error about a setup value (e.g. an unknown part name) at the setup file's line.
-fn locate(e: Error, setup: &SearchSetup) -> Error {
+pub(crate) fn locate(e: Error, setup: &SearchSetup) -> Error {
     let (Some(source), None) = (&setup.source, e.file()) else {
         return e;
     };
@@ -442,13 +467,9 @@ fn existing_contact_parts(
     let mut subs = std::collections::BTreeMap::new();
     let mut properties = std::collections::BTreeMap::new();
     for (&key, pair) in &setup.pairs {
-        let path = format!("Contact.ContactSub{key}");
-        let sub = model.find_part(&path).ok_or_else(|| {
-            Error::from(ErrorKind::RejectedByKratos(format!(
-                "the mesh has a `Contact` part but no `{path}`: Kratos reuses an existing \
-                 `Contact` and its search process fails without the pair's sub part"
-            )))
-        })?;
+        let sub = model
+            .find_part(&contact_sub_path(key))
+            .ok_or_else(|| missing_contact_sub(key))?;
         subs.insert(key, sub);
         let id = if pair.property_id != 0 {
             pair.property_id
@@ -465,23 +486,25 @@ fn existing_contact_parts(
     })
 }
 
-/// The nodal variables and process info of the Python path (DESIGN.md §2), then the setup's
-/// `process_info` overrides.
-fn emulate_python_state(model: &mut ModelPart, setup: &SearchSetup) {
+/// The nodal variables of the Python path (DESIGN.md §2) that the plan allocates — only those
+/// a stage reads, with their history only when a stage reads it — then the process info and
+/// the setup's `process_info` overrides.
+fn emulate_python_state(model: &mut ModelPart, setup: &SearchSetup, variables: &[VariablePlan]) {
     let data = model.nodal_data_mut();
-    for v in [
-        VectorVar::Displacement,
-        VectorVar::Velocity,
-        VectorVar::Acceleration,
-        VectorVar::Normal,
-    ] {
-        data.add_vector(v);
-    }
-    data.add_scalar(ScalarVar::NodalH);
-    data.add_scalar(ScalarVar::WeightedGap);
-    match setup.contact_type {
-        ContactType::Frictionless => data.add_scalar(ScalarVar::LagrangeMultiplierContactPressure),
-        _ => data.add_vector(VectorVar::VectorLagrangeMultiplier),
+    for v in variables {
+        match (v.variable, &v.storage) {
+            (NodalVariable::Scalar(s), Decision::Used(Storage::Current)) => {
+                data.add_scalar_current(s)
+            }
+            (NodalVariable::Vector(s), Decision::Used(Storage::Current)) => {
+                data.add_vector_current(s)
+            }
+            (NodalVariable::Scalar(s), Decision::Used(Storage::WithHistory)) => data.add_scalar(s),
+            (NodalVariable::Vector(s), Decision::Used(Storage::WithHistory)) => data.add_vector(s),
+            // NORMAL_GAP (plain) is set up per MappingCheck pair; mesh data stays as read.
+            (_, Decision::Used(Storage::Plain | Storage::FromMesh)) | (_, Decision::LeftOut(_)) => {
+            }
+        }
     }
     let pi = model.process_info_mut();
     if !pi.has("DOMAIN_SIZE") {
@@ -572,6 +595,7 @@ fn clear_mortar_conditions(
 fn update_mortar_conditions(
     model: &mut ModelPart,
     pair: &mut PairSearch,
+    plan: &mut PairPlan,
     run: RunMode,
 ) -> Result<Vec<String>, Error> {
     let compatibility = run.compatibility;
@@ -580,16 +604,17 @@ fn update_mortar_conditions(
     let inverted = p.inverted_search;
     let sub = pair.sub;
     let dim = usize::from(pair.instance.dim);
-    // 1. Dynamic search: the half-jump increments; MappingCheck moves the nodes (§11).
-    let dynamic = p.dynamic_search && model.nodal_data().has_vector(VectorVar::Velocity);
+    // 1. Dynamic search: the half-jump increments; MappingCheck moves the nodes (§11). Left
+    // out when every increment would be zero (the plan, decided again on this step's data).
     let sub_nodes = model.part(sub).nodes().to_vec();
-    let delta = if dynamic {
+    plan.step_jump = step_jump(&p, model, &sub_nodes);
+    let delta = if plan.step_jump.is_used() {
         let dt = model.process_info().number("DELTA_TIME").unwrap_or(1.0);
         Some(compute_step_jump(model, &sub_nodes, dt))
     } else {
         None
     };
-    let moved = dynamic && p.check_gap == CheckGap::MappingCheck;
+    let moved = plan.step_jump.used().is_some_and(|s| s.moves_nodes);
     if let (true, Some(d)) = (moved, &delta) {
         shift_nodes(model, &sub_nodes, d, 1.0);
     }
@@ -606,7 +631,7 @@ fn update_mortar_conditions(
 
     // 6. SearchUsingOcTree (§8) or SearchUsingKDTree (§5.3).
     let mut created = Vec::new();
-    if p.type_search == SearchTreeType::OctreeWithObb {
+    if plan.octree.is_used() {
         let domain_size = model.process_info().number("DOMAIN_SIZE").unwrap_or(0.0) as u32;
         let ocx = OctreeContext {
             params: &p,
@@ -643,6 +668,7 @@ fn update_mortar_conditions(
             model,
             pair,
             &p,
+            plan,
             compatibility,
             delta.as_deref(),
             &mut created,
@@ -668,7 +694,7 @@ fn update_mortar_conditions(
     // gives NORMAL_GAP, then the paired conditions, the weighted gap and the activation.
     if p.check_gap == CheckGap::MappingCheck {
         let restore = if moved { delta.as_deref() } else { None };
-        let warnings = check_pairing(model, pair, &p, run, restore, condition_id)?;
+        let warnings = check_pairing(model, pair, &p, plan, run, restore, condition_id)?;
         run_warnings.extend(warnings);
         return Ok(run_warnings);
     }
@@ -691,6 +717,7 @@ fn check_pairing(
     model: &mut ModelPart,
     pair: &mut PairSearch,
     p: &SearchParameters,
+    plan: &PairPlan,
     run: RunMode,
     restore: Option<&[Vector]>,
     condition_id: u32,
@@ -759,9 +786,12 @@ fn check_pairing(
         }
         finish_pairs(model, pair, created, condition_id);
     }
-    let paired: Vec<_> = pair.paired.iter().map(|pc| (pc.slave, pc.master)).collect();
-    act::compute_weighted_gap(model, sub, &paired, mode, distance_threshold, dim)
-        .map_err(activation_error)?;
+    // ComputeWeightedReaction: only the Advanced activation reads WEIGHTED_GAP.
+    if plan.weighted_gap.is_used() {
+        let paired: Vec<_> = pair.paired.iter().map(|pc| (pc.slave, pc.master)).collect();
+        act::compute_weighted_gap(model, sub, &paired, mode, distance_threshold, dim)
+            .map_err(activation_error)?;
+    }
     let rule = if p.simple_search {
         act::ActivationRule::Simple
     } else {
@@ -860,6 +890,7 @@ fn kdtree_search(
     model: &mut ModelPart,
     pair: &PairSearch,
     p: &SearchParameters,
+    plan: &PairPlan,
     compatibility: Compatibility,
     delta: Option<&[Vector]>,
     created: &mut Vec<(ConditionIdx, ConditionIdx)>,
@@ -889,11 +920,11 @@ fn kdtree_search(
             "kd-tree of the master conditions: {e}"
         )))
     })?;
+    // Read in place: the model is only read until the serial pairing below.
     let h_col = model
         .nodal_data()
         .scalar(ScalarVar::NodalH, 0)
-        .unwrap_or(&[])
-        .to_vec();
+        .unwrap_or(&[]);
     let hmax = model
         .part(sub)
         .nodes()
@@ -902,16 +933,14 @@ fn kdtree_search(
         .fold(0.0, Real::max);
     let hmax = if hmax < EPS { 1.0 } else { hmax };
     let bbf = p.octree.bounding_box_factor * hmax;
-    let with_obb = matches!(
-        p.type_search,
-        SearchTreeType::KdtreeInRadiusWithObb | SearchTreeType::KdtreeInBoxWithObb
-    );
+    let with_obb = plan.obb_test.is_used();
+    let with_kdop = plan.kdop.is_used();
     // Master boxes, once per step (Kratos rebuilds one per candidate); No/DirectCheck build
-    // them with build_from_bounding_box = true (Q4).
+    // them with build_from_bounding_box = true (Q4). Allocated only for the OBB test.
     let master_bfb = p.check_gap != CheckGap::MappingCheck || p.octree.build_from_bounding_box;
-    let mut master_bvs: Vec<Option<Result<Bv, csm_geometry::Error>>> =
-        vec![None; model.conditions().len()];
+    let mut master_bvs: Vec<Option<Result<Bv, csm_geometry::Error>>> = Vec::new();
     if with_obb {
+        master_bvs = vec![None; model.conditions().len()];
         let built: Vec<(u32, Result<Bv, csm_geometry::Error>)> = points
             .par_iter()
             .map(|(c, _)| {
@@ -931,8 +960,9 @@ fn kdtree_search(
             master_bvs[c as usize] = Some(bv);
         }
     }
-    let mut master_kdops: Vec<Option<Kdop18>> = vec![None; model.conditions().len()];
-    if p.type_search == SearchTreeType::Kdop {
+    let mut master_kdops: Vec<Option<Kdop18>> = Vec::new();
+    if with_kdop {
+        master_kdops = vec![None; model.conditions().len()];
         for (c, _) in &points {
             let pts: Vec<_> = model
                 .conditions()
@@ -954,8 +984,7 @@ fn kdtree_search(
     let nodal_normals = model
         .nodal_data()
         .vector(VectorVar::Normal, 0)
-        .unwrap_or(&[])
-        .to_vec();
+        .unwrap_or(&[]);
     let acf = model
         .process_info()
         .number("ACTIVE_CHECK_FACTOR")
@@ -964,14 +993,15 @@ fn kdtree_search(
         let cx = QueryContext {
             model,
             params: p,
-            tree: &tree,
+            obb_test: with_obb,
+            kdop: with_kdop,
             bbf,
             dim,
             slave_nodes: usize::from(pair.instance.slave_nodes),
             compatibility,
             delta,
-            nodal_normals: &nodal_normals,
-            nodal_h: &h_col,
+            nodal_normals,
+            nodal_h: h_col,
             active_check_factor: acf,
             master_bvs: &master_bvs,
             master_kdops: &master_kdops,
@@ -979,7 +1009,7 @@ fn kdtree_search(
         slaves
             .par_iter()
             .map_init(Vec::new, |scratch, s| {
-                slave_candidates(&cx, *s, scratch)?;
+                slave_candidates(&cx, &tree, *s, scratch)?;
                 Ok(scratch.clone())
             })
             .collect()

@@ -15,13 +15,15 @@ pub(crate) fn compute_step_jump(model: &ModelPart, nodes: &[NodeIdx], dt: Real) 
     let data = model.nodal_data();
     let mut delta = vec![Vector::zeros(); model.nodes().len()];
     let (cv, ca) = HALF_JUMP;
-    let zeros = vec![Vector::zeros(); model.nodes().len()];
-    let v0 = data.vector(VectorVar::Velocity, 0).unwrap_or(&zeros);
-    let v1 = data.vector(VectorVar::Velocity, 1).unwrap_or(&zeros);
-    let a1 = data.vector(VectorVar::Acceleration, 1).unwrap_or(&zeros);
+    let zero = Vector::zeros();
+    // An absent column reads as zero.
+    let at = |column: Option<&[Vector]>, i: usize| column.map_or(zero, |c| c[i]);
+    let v0 = data.vector(VectorVar::Velocity, 0);
+    let v1 = data.vector(VectorVar::Velocity, 1);
+    let a1 = data.vector(VectorVar::Acceleration, 1);
     for n in nodes {
         let i = n.index();
-        delta[i] = (v0[i] + v1[i]) * (cv * dt) + a1[i] * (ca * dt * dt);
+        delta[i] = (at(v0, i) + at(v1, i)) * (cv * dt) + at(a1, i) * (ca * dt * dt);
     }
     delta
 }

@@ -681,3 +681,75 @@ fn a_second_step_without_paired_conditions_fails_as_in_kratos() {
         }
     }
 }
+
+/// The search follows the plan made from the model as read: `plan()` equals [`crate::Plan::new`]
+/// on the model before `initialize`, and the nodal variables are those it allocates — no
+/// DISPLACEMENT, no Lagrange multipliers, NORMAL and NODAL_H without history, VELOCITY and
+/// ACCELERATION only with `dynamic_search`, WEIGHTED_GAP only for the Advanced activation.
+#[test]
+fn the_search_follows_its_plan() {
+    use crate::{Decision, Plan, Reason};
+    use csm_model::{ScalarVar, VectorVar};
+    for (sp, dynamic, advanced) in [
+        (r#"{"type_search": "in_radius_with_obb"}"#, false, true),
+        (
+            r#"{"simple_search": true, "dynamic_search": true, "type_search": "octree_with_obb"}"#,
+            true,
+            false,
+        ),
+        (
+            r#"{"check_gap": "no_check", "type_search": "kdop_18"}"#,
+            false,
+            false,
+        ),
+    ] {
+        let mut model = plates(3, 0.01, false);
+        let s = setup(sp, "");
+        let plan = Plan::new(&model, &s).unwrap();
+        let mut search = ContactSearch::initialize(&mut model, &s).unwrap();
+        assert_eq!(search.plan(), &plan, "{sp}");
+        search.step(&mut model).unwrap();
+        assert_eq!(search.plan(), &plan, "zero velocities: no step jump ({sp})");
+        if dynamic {
+            assert_eq!(
+                plan.pairs[&0].step_jump,
+                Decision::LeftOut(Reason::NoVelocities)
+            );
+        }
+        let data = model.nodal_data();
+        assert!(!data.has_vector(VectorVar::Displacement));
+        assert!(!data.has_scalar(ScalarVar::LagrangeMultiplierContactPressure));
+        assert_eq!(data.vector_steps(VectorVar::Normal), 1);
+        assert_eq!(data.scalar_steps(ScalarVar::NodalH), 1);
+        let history = if dynamic { 2 } else { 0 };
+        assert_eq!(data.vector_steps(VectorVar::Velocity), history, "{sp}");
+        assert_eq!(data.vector_steps(VectorVar::Acceleration), history, "{sp}");
+        assert_eq!(data.has_scalar(ScalarVar::WeightedGap), advanced, "{sp}");
+    }
+}
+
+/// With velocities set after `initialize`, the step decides the step jump again and records
+/// it in the plan.
+#[test]
+fn the_step_jump_is_decided_again_every_step() {
+    use csm_geometry::math::Vector;
+    use csm_model::VectorVar;
+    let mut model = plates(3, 1.0, false);
+    let s = setup(
+        r#"{"type_search": "in_radius", "dynamic_search": true}"#,
+        "",
+    );
+    let mut search = ContactSearch::initialize(&mut model, &s).unwrap();
+    assert!(!search.plan().pairs[&0].step_jump.is_used());
+    let slave = model.find_part("Slave").unwrap();
+    let nodes = model.part(slave).nodes().to_vec();
+    let v = model
+        .nodal_data_mut()
+        .vector_mut(VectorVar::Velocity, 0)
+        .unwrap();
+    v[nodes[0].index()] = Vector::new(0.0, 0.0, -1.0);
+    search.step(&mut model).unwrap();
+    let jump = search.plan().pairs[&0].step_jump.used().copied().unwrap();
+    assert_eq!(jump.moving_nodes, 1);
+    assert!(jump.moves_nodes, "MappingCheck moves the nodes");
+}

@@ -15,6 +15,16 @@ pub enum Compatibility {
     Robust,
 }
 
+impl Compatibility {
+    /// The setup's spelling (`"kratos"`, `"robust"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Compatibility::Kratos => "kratos",
+            Compatibility::Robust => "robust",
+        }
+    }
+}
+
 /// The broad/narrow-phase combination (`type_search`, Kratos `SearchTreeType`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SearchTreeType {
@@ -34,6 +44,20 @@ pub enum SearchTreeType {
     Kdop,
 }
 
+impl SearchTreeType {
+    /// The Python-layer spelling of the value (`"in_radius_with_obb"`, …; `"kdop_18"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            SearchTreeType::KdtreeInRadius => "in_radius",
+            SearchTreeType::KdtreeInBox => "in_box",
+            SearchTreeType::KdtreeInRadiusWithObb => "in_radius_with_obb",
+            SearchTreeType::KdtreeInBoxWithObb => "in_box_with_obb",
+            SearchTreeType::OctreeWithObb => "octree_with_obb",
+            SearchTreeType::Kdop => "kdop_18",
+        }
+    }
+}
+
 /// How candidate pairs are validated (`check_gap`, Kratos `CheckGap`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CheckGap {
@@ -48,6 +72,18 @@ pub enum CheckGap {
     MappingCheck,
 }
 
+impl CheckGap {
+    /// The Python-layer spelling of the value (`"no_check"`, `"direct_check"`,
+    /// `"mapping_check"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            CheckGap::NoCheck => "no_check",
+            CheckGap::DirectCheck => "direct_check",
+            CheckGap::MappingCheck => "mapping_check",
+        }
+    }
+}
+
 /// The OBB intersection test (`OBB_intersection_type`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ObbIntersectionType {
@@ -55,6 +91,16 @@ pub enum ObbIntersectionType {
     SeparatingAxisTheorem,
     /// Vertex inclusion and edge/face intersection (`"Direct"`).
     Direct,
+}
+
+impl ObbIntersectionType {
+    /// Kratos' spelling (`"SeparatingAxisTheorem"`, `"Direct"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ObbIntersectionType::SeparatingAxisTheorem => "SeparatingAxisTheorem",
+            ObbIntersectionType::Direct => "Direct",
+        }
+    }
 }
 
 /// The contact formulation (`contact_type`), which selects the nodal variable set.

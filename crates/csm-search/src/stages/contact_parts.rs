@@ -28,7 +28,7 @@ pub struct ContactParts {
     pub properties: BTreeMap<u32, PropertiesId>,
 }
 
-fn user_part(model: &ModelPart, path: &str, key: u32) -> Result<PartIdx, Error> {
+pub(crate) fn user_part(model: &ModelPart, path: &str, key: u32) -> Result<PartIdx, Error> {
     model.find_part(path).ok_or_else(|| {
         ErrorKind::InvalidValue {
             key: format!("contact_model_part.{key}"),

@@ -192,6 +192,45 @@ pub fn normal_check(
     Ok(report)
 }
 
+/// Stage 2 on a model without solid elements: what [`normal_check`] leaves behind there, at
+/// a third of the cost. Both passes look only at solid elements, so nothing is inverted and
+/// the check reduces to its unit normals (computed once instead of three times; the same
+/// errors on a degenerate condition) and to the MARKER bookkeeping (every MARKER that was
+/// defined becomes false in `kratos` mode and keeps its value in `robust` mode; every other
+/// stays undefined). The report lists the non-solid elements, as [`normal_check`]'s does.
+///
+/// [`crate::Plan`] chooses this when [`count_solid_elements`] is 0.
+pub fn normal_check_normals_only(
+    model: &mut ModelPart,
+    settings: &NormalCheckSettings,
+) -> Result<NormalCheckReport, Error> {
+    let kratos = settings.compatibility == Compatibility::Kratos;
+    let report = NormalCheckReport {
+        slender_elements: model
+            .elements()
+            .indices_by_id()
+            .into_iter()
+            .filter(|&e| !model.elements().kind(e).is_solid())
+            .map(|e| ElementId(model.elements().ids()[e]))
+            .collect(),
+        ..NormalCheckReport::default()
+    };
+    debug_assert!(report.slender_elements.len() == model.elements().len());
+    compute_normals(model)?;
+    let backup = MarkerBackup::take(model);
+    reset_marker(model, true, true, true);
+    backup.restore(model, kratos);
+    Ok(report)
+}
+
+/// The number of solid elements (local dimension = working dimension) in the model: the
+/// elements the normal check's passes look at.
+pub fn count_solid_elements(model: &ModelPart) -> usize {
+    (0..model.elements().len())
+        .filter(|&e| model.elements().kind(e).is_solid())
+        .count()
+}
+
 /// `face.Center() + lp · face.Length() · face.UnitNormal(ξ(centre))`, in Kratos' order.
 fn face_probe(kind: GeometryKind, points: &[Point], lp: f64) -> Result<Point, csm_geometry::Error> {
     let face = Geometry::new(kind, points)?;

@@ -167,3 +167,72 @@ fn inversion_permutations_reverse_orientation() {
         }
     }
 }
+
+/// A shell (Quadrilateral3D4 element, not solid) under two triangle conditions, with MARKER
+/// defined on some entities.
+fn shell_model() -> ModelPart {
+    let mut m = ModelPart::new("Main");
+    for (i, (x, y)) in [(0., 0.), (1., 0.), (1., 1.), (0., 1.)].iter().enumerate() {
+        m.add_node(NodeId(i as u32 + 1), Point::new(*x, *y, 0.0))
+            .unwrap();
+    }
+    let ids = |v: &[u32]| v.iter().map(|&n| NodeId(n)).collect::<Vec<_>>();
+    m.add_element(
+        ElementId(1),
+        GeometryKind::Quadrilateral3D4,
+        "ShellThinElement3D4N",
+        &ids(&[1, 2, 3, 4]),
+        PropertiesId(1),
+    )
+    .unwrap();
+    for (id, nodes) in [(1, [1, 2, 3]), (2, [1, 3, 4])] {
+        m.add_condition(
+            csm_model::ConditionId(id),
+            GeometryKind::Triangle3D3,
+            "SurfaceCondition3D3N",
+            &ids(&nodes),
+            PropertiesId(1),
+        )
+        .unwrap();
+    }
+    m.nodes_mut().flags_mut()[0].set(Flag::MARKER, true);
+    m.nodes_mut().flags_mut()[1].set(Flag::MARKER, false);
+    m.elements_mut().flags_mut()[0].set(Flag::MARKER, true);
+    m.conditions_mut().flags_mut()[1].set(Flag::MARKER, true);
+    m
+}
+
+/// Without solid elements the short path leaves the model exactly as the full check does
+/// (flags, connectivity, condition and nodal normals) and reports the same, in both modes.
+#[test]
+fn normals_only_equals_the_full_check_without_solids() {
+    for compatibility in [Compatibility::Kratos, Compatibility::Robust] {
+        let settings = NormalCheckSettings {
+            compatibility,
+            ..NormalCheckSettings::default()
+        };
+        let mut full = shell_model();
+        let mut short = shell_model();
+        assert_eq!(count_solid_elements(&full), 0);
+        let r_full = normal_check(&mut full, &settings).unwrap();
+        let r_short = normal_check_normals_only(&mut short, &settings).unwrap();
+        assert_eq!(r_full, r_short);
+        assert_eq!(r_short.slender_elements, vec![ElementId(1)]);
+        assert_eq!(full.nodes().flags(), short.nodes().flags());
+        assert_eq!(full.elements().flags(), short.elements().flags());
+        assert_eq!(full.conditions().flags(), short.conditions().flags());
+        assert_eq!(full.condition_normals(), short.condition_normals());
+        assert_eq!(
+            full.nodal_data().vector(VectorVar::Normal, 0),
+            short.nodal_data().vector(VectorVar::Normal, 0)
+        );
+        for c in 0..2 {
+            assert_eq!(full.conditions().nodes(c), short.conditions().nodes(c));
+        }
+    }
+}
+
+#[test]
+fn solid_elements_are_counted() {
+    assert_eq!(count_solid_elements(&cube([1, 2, 3, 4, 5, 6, 7, 8])), 1);
+}
