@@ -16,6 +16,10 @@ impl Error {
         }
     }
 
+    pub(crate) fn message_only(message: String) -> Error {
+        Error { message }
+    }
+
     /// The message.
     pub fn message(&self) -> &str {
         &self.message

@@ -162,21 +162,21 @@ fn mean_normals(model: &mut ModelPart, conditions: &[ConditionIdx]) -> Result<()
     model.nodal_data_mut().add_vector(VectorVar::Normal);
     let mut sums: Vec<(NodeIdx, Vector)> = Vec::new();
     let mut index = std::collections::HashMap::new();
-    let mut cond_normals = Vec::with_capacity(conditions.len());
-    let mut points = Vec::new();
-    for &c in conditions {
-        let kind = model.conditions().kind(c.index());
-        let id = model.conditions().ids()[c.index()];
-        let nodes = model.conditions().nodes(c.index());
-        model.gather_points(nodes, &mut points);
-        let wrap = |e: csm_geometry::Error| Error::condition("unit normal", id, &e);
-        let g = Geometry::new(kind, &points).map_err(wrap)?;
-        let at = |p: &Point| -> Result<Vector, csm_geometry::Error> {
-            g.unit_normal(&g.point_local_coordinates(p)?)
-        };
-        cond_normals.push((c, at(&g.center()).map_err(wrap)?));
-        for (n, p) in nodes.iter().zip(&points) {
-            let v = at(p).map_err(wrap)?;
+    let faces = csm_model::face_unit_normals(model, conditions).map_err(|e| match e.kind() {
+        csm_model::ErrorKind::Geometry { id, source, .. } => {
+            Error::condition("unit normal", *id, source)
+        }
+        _ => Error::message_only(e.to_string()),
+    })?;
+    let mut cond_normals = Vec::with_capacity(faces.len());
+    for (c, normals) in faces {
+        cond_normals.push((c, normals.centre));
+        for (n, v) in model
+            .conditions()
+            .nodes(c.index())
+            .iter()
+            .zip(normals.nodes())
+        {
             let slot = *index.entry(*n).or_insert_with(|| {
                 sums.push((*n, Vector::zeros()));
                 sums.len() - 1

@@ -30,8 +30,8 @@ mod shape;
 pub use bounding::{Aabb, BoundingSphere};
 pub use error::{Error, ErrorKind};
 pub use geometry::{
-    Geometry, LOCAL_COORDINATES_MAX_ITERATIONS, LOCAL_COORDINATES_TOLERANCE,
-    TETRAHEDRON_LENGTH_FACTOR,
+    FaceUnitNormals, Geometry, LOCAL_COORDINATES_MAX_ITERATIONS, LOCAL_COORDINATES_TOLERANCE,
+    MAX_FACE_NODES, TETRAHEDRON_LENGTH_FACTOR,
 };
 pub use intersection::{
     CROSS_AXIS_GUARD, ObbIntersection, SatMode, TOUCH_TOLERANCE, direct_obb_obb, direct_obb2_obb2,

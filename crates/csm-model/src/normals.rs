@@ -14,7 +14,8 @@
 //! an error here; Kratos produces NaN or raises for INTERFACE nodes.
 
 use csm_geometry::math::{EPS, Point, Vector};
-use csm_geometry::{Geometry, GeometryKind};
+use csm_geometry::{FaceUnitNormals, Geometry, GeometryKind};
+use rayon::prelude::*;
 
 use crate::error::{EntityKind, Error, ErrorKind};
 use crate::{ConditionIdx, Flag, ModelPart, PartIdx, VectorVar};
@@ -48,6 +49,32 @@ fn geometry_error(c: ConditionIdx, model: &ModelPart, source: csm_geometry::Erro
     .into()
 }
 
+/// The unit normals at the centre and at the nodes ([`Geometry::face_unit_normals`]) of every
+/// face condition of `conditions` (other kinds are skipped), in the order given, computed in
+/// parallel. Errors: the first condition (in the order given) whose normals cannot be
+/// computed.
+pub fn face_unit_normals(
+    model: &ModelPart,
+    conditions: &[ConditionIdx],
+) -> Result<Vec<(ConditionIdx, FaceUnitNormals)>, Error> {
+    let per_face: Vec<Option<Result<FaceUnitNormals, csm_geometry::Error>>> = conditions
+        .par_iter()
+        .map_init(Vec::<Point>::new, |points, &c| {
+            let kind: GeometryKind = model.conditions().kind(c.index());
+            if !kind.is_face() {
+                return None;
+            }
+            model.gather_points(model.conditions().nodes(c.index()), points);
+            Some(Geometry::new(kind, points).and_then(|g| g.face_unit_normals()))
+        })
+        .collect();
+    conditions
+        .iter()
+        .zip(per_face)
+        .filter_map(|(&c, r)| r.map(|r| r.map(|n| (c, n)).map_err(|e| geometry_error(c, model, e))))
+        .collect()
+}
+
 /// Computes the unit normals of the conditions of `part` (all conditions when `None`) and
 /// of their nodes: condition normals go to [`ModelPart::condition_normals`], nodal normals to
 /// the historical variable `NORMAL` (current step), which is added if needed.
@@ -61,24 +88,14 @@ pub fn compute_unit_normals(
     let n_nodes = model.nodes().len();
     let mut nodal = vec![Vector::zeros(); n_nodes];
     let mut touched = vec![false; n_nodes];
-    let mut cond_normals = Vec::with_capacity(conditions.len());
-    let mut points: Vec<Point> = Vec::new();
-    for &c in &conditions {
-        let kind: GeometryKind = model.conditions().kind(c.index());
-        if !kind.is_face() {
-            continue;
-        }
+    // The per-face normals in parallel; the sums below in condition order, as Kratos' serial
+    // loop adds them (identical results for any thread count).
+    let faces = face_unit_normals(model, &conditions)?;
+    let mut cond_normals = Vec::with_capacity(faces.len());
+    for (c, normals) in faces {
+        cond_normals.push((c, normals.centre));
         let nodes = model.conditions().nodes(c.index());
-        model.gather_points(nodes, &mut points);
-        let geometry = Geometry::new(kind, &points).map_err(|e| geometry_error(c, model, e))?;
-        let at = |p: &Point| -> Result<Vector, csm_geometry::Error> {
-            let local = geometry.point_local_coordinates(p)?;
-            geometry.unit_normal(&local)
-        };
-        let centre_normal = at(&geometry.center()).map_err(|e| geometry_error(c, model, e))?;
-        cond_normals.push((c, centre_normal));
-        for (node, p) in nodes.iter().zip(&points) {
-            let n = at(p).map_err(|e| geometry_error(c, model, e))?;
+        for (node, n) in nodes.iter().zip(normals.nodes()) {
             nodal[node.index()] += n;
             touched[node.index()] = true;
         }

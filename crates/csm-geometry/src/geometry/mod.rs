@@ -9,6 +9,7 @@ mod local_coordinates;
 mod measure;
 mod quadrature;
 mod unit_normal;
+pub use unit_normal::{FaceUnitNormals, MAX_FACE_NODES};
 
 #[cfg(test)]
 mod tests;

@@ -354,3 +354,53 @@ fn quad_local_coordinates_invariances() {
     check_close(l3.x, l.x, 1e-9);
     check_close(l3.y, l.y, 1e-9);
 }
+
+/// `face_unit_normals` is bit-identical to evaluating the unit normal at the local
+/// coordinates of the centre and of every node (the affine shortcut included), and refuses
+/// solids.
+#[test]
+fn face_unit_normals_equal_the_per_point_normals_bit_for_bit() {
+    let tri = [p(0.1, 0.2, 0.3), p(1.3, 0.1, 0.7), p(0.2, 1.1, -0.4)];
+    let warped_quad = [
+        p(0.0, 0.0, 0.0),
+        p(1.0, 0.1, 0.2),
+        p(1.1, 0.9, -0.1),
+        p(-0.1, 1.0, 0.3),
+    ];
+    let line = [p(0.3, -0.2, 0.0), p(1.7, 0.4, 0.0)];
+    let tri6 = [
+        p(0.0, 0.0, 0.0),
+        p(1.0, 0.0, 0.1),
+        p(0.0, 1.0, 0.0),
+        p(0.5, 0.0, 0.1),
+        p(0.5, 0.5, 0.2),
+        p(0.0, 0.5, 0.0),
+    ];
+    for (kind, points) in [
+        (GeometryKind::Triangle3D3, &tri[..]),
+        (GeometryKind::Quadrilateral3D4, &warped_quad[..]),
+        (GeometryKind::Line2D2, &line[..]),
+        (GeometryKind::Triangle3D6, &tri6[..]),
+    ] {
+        let g = Geometry::new(kind, points).unwrap();
+        let at = |q: &Point| {
+            g.unit_normal(&g.point_local_coordinates(q).unwrap())
+                .unwrap()
+        };
+        let normals = g.face_unit_normals().unwrap();
+        assert_eq!(normals.centre, at(&g.center()), "{kind:?}");
+        let expected: Vec<Vector> = points.iter().map(at).collect();
+        assert_eq!(normals.nodes(), &expected[..], "{kind:?}");
+    }
+    let tet = [
+        p(0.0, 0.0, 0.0),
+        p(1.0, 0.0, 0.0),
+        p(0.0, 1.0, 0.0),
+        p(0.0, 0.0, 1.0),
+    ];
+    let g = Geometry::new(GeometryKind::Tetrahedra3D4, &tet).unwrap();
+    assert!(matches!(
+        g.face_unit_normals().unwrap_err().kind(),
+        ErrorKind::Unsupported(_)
+    ));
+}

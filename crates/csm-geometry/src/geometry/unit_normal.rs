@@ -51,3 +51,62 @@ impl Geometry<'_> {
         Ok(u)
     }
 }
+
+/// The most nodes a face geometry has (Quadrilateral3D9).
+pub const MAX_FACE_NODES: usize = 9;
+
+/// The unit normals of one face at its centre and at each of its nodes
+/// ([`Geometry::face_unit_normals`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaceUnitNormals {
+    /// At the local coordinates of the centre (the node mean).
+    pub centre: Vector,
+    nodes: [Vector; MAX_FACE_NODES],
+    n_nodes: usize,
+}
+
+impl FaceUnitNormals {
+    /// At the local coordinates of each node, in node order.
+    pub fn nodes(&self) -> &[Vector] {
+        &self.nodes[..self.n_nodes]
+    }
+}
+
+impl Geometry<'_> {
+    /// The unit normals Kratos' `CalculateUnitNormals` and `ComputeNodesMeanNormalModelPart`
+    /// take from a face: at the local coordinates ([`point_local_coordinates`](
+    /// Self::point_local_coordinates)) of its centre and of each of its nodes.
+    ///
+    /// Affine kinds (Line2D2, Triangle3D3) have a constant Jacobian, so the unit normal does
+    /// not depend on the local point: it is computed once and is bit-identical to the
+    /// per-point values. Every other kind evaluates each point.
+    ///
+    /// Errors: as [`unit_normal`](Self::unit_normal) and
+    /// [`point_local_coordinates`](Self::point_local_coordinates); [`ErrorKind::Unsupported`]
+    /// for solids.
+    pub fn face_unit_normals(&self) -> Result<FaceUnitNormals, Error> {
+        let points = self.points();
+        if !self.kind().is_face() || points.len() > MAX_FACE_NODES {
+            return Err(Error::new(ErrorKind::Unsupported(
+                "unit normals of a non-face geometry",
+            )));
+        }
+        let at = |p: &Point| -> Result<Vector, Error> {
+            self.unit_normal(&self.point_local_coordinates(p)?)
+        };
+        let centre = at(&self.center())?;
+        let mut nodes = [Vector::zeros(); MAX_FACE_NODES];
+        let affine = matches!(
+            self.kind(),
+            crate::GeometryKind::Line2D2 | crate::GeometryKind::Triangle3D3
+        );
+        for (slot, p) in nodes.iter_mut().zip(points) {
+            *slot = if affine { centre } else { at(p)? };
+        }
+        Ok(FaceUnitNormals {
+            centre,
+            nodes,
+            n_nodes: points.len(),
+        })
+    }
+}
