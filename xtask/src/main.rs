@@ -12,6 +12,9 @@
 //!   (`kratos_fixtures_steps.py`: multi-step runs and the dynamic-search test). The
 //!   virtual environment is made in `target/kratos-venv` on first use (or set `KRATOS_PYTHON`
 //!   to a Python that has Kratos). CI never runs this: the fixtures are committed data.
+//! - `cargo xtask bench`: csm against Kratos 10.4.4 on generated scenes at sizes 1e3–2e5
+//!   (search step, whole process, peak memory, identical pairs), written to
+//!   `docs/performance.md` (see `bench.rs`).
 //! - `cargo xtask snapshots`: the snapshot tests alone, as CI runs them; review changes
 //!   locally with `cargo insta review` (`cargo install cargo-insta` once).
 //!
@@ -22,6 +25,7 @@ use std::process::Command;
 
 use anyhow::{Context, Result, bail};
 
+mod bench;
 #[cfg(test)]
 mod tidy;
 
@@ -32,8 +36,9 @@ fn main() -> Result<()> {
         Some("snapshots") => snapshots(),
         Some("features") => features(),
         Some("fixtures") => fixtures(),
+        Some("bench") => bench::bench(&args[1..]),
         _ => {
-            eprintln!("usage: cargo xtask <ci|snapshots|features|fixtures>");
+            eprintln!("usage: cargo xtask <ci|snapshots|features|fixtures|bench>");
             bail!("unknown or missing command")
         }
     }

@@ -1,0 +1,688 @@
+//! `cargo xtask bench`: csm against Kratos 10.4.4 on generated scenes, written to
+//! `docs/performance.md` (tables, targets, growth exponents) and `docs/performance.svg`.
+//!
+//! For every scene of `tools/bench_scenes.py` (gmsh; sphere on plate, stacked blocks) at every
+//! size, and every type_search asked for: `csm search` with `--threads 1` and `--threads 2` and,
+//! unless `--no-kratos`, `tools/kratos_bench.py` (one thread), each under `/usr/bin/time`
+//! (whole-process wall time, peak resident memory). Every row checks that the pair sets are
+//! identical (csm 1 thread = csm 2 threads = Kratos); a row where they differ says so. The raw
+//! figures go to `docs/performance.json`.
+//!
+//! Options: `--sizes 1e3,3e4` (target slave faces; default 1e3,3e3,1e4,3e4,1e5,2e5),
+//! `--scenes sphere_on_plate,stacked_blocks`, `--types in_radius_with_obb,...` (default: the
+//! default in_radius_with_obb at every size, the other type_searches up to `--all-types-up-to`,
+//! default 3e4), `--no-kratos`, `--repeat N` (csm runs per row, the fastest kept; default 3).
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use anyhow::{Context, Result, bail};
+use serde_json::{Value, json};
+
+use crate::{kratos_python, workspace_root};
+
+/// The type_searches of the tables (k-DOP is csm's own: no Kratos column there).
+const TYPES: [&str; 6] = [
+    "in_radius_with_obb",
+    "in_radius",
+    "in_box",
+    "in_box_with_obb",
+    "octree_with_obb",
+    "kdop_18",
+];
+
+/// One timed process.
+#[derive(Debug, Clone, Default)]
+struct Run {
+    /// Whole-process wall time (s).
+    wall: f64,
+    /// Peak resident set (kB).
+    rss_kb: u64,
+    /// The program's own `timings_s`.
+    timings: BTreeMap<String, f64>,
+    /// `pairs` of its result.
+    pairs: Value,
+}
+
+impl Run {
+    fn t(&self, key: &str) -> f64 {
+        self.timings.get(key).copied().unwrap_or(f64::NAN)
+    }
+
+    fn n_pairs(&self) -> usize {
+        self.pairs
+            .as_object()
+            .map(|keys| {
+                keys.values()
+                    .filter_map(Value::as_object)
+                    .flat_map(|m| m.values())
+                    .filter_map(Value::as_array)
+                    .map(Vec::len)
+                    .sum()
+            })
+            .unwrap_or(0)
+    }
+}
+
+/// One benchmark row.
+#[derive(Debug, Clone)]
+struct Row {
+    scene: String,
+    size: String,
+    slave: usize,
+    master: usize,
+    type_search: String,
+    csm1: Run,
+    csm2: Run,
+    kratos: Option<Run>,
+}
+
+impl Row {
+    fn identical(&self) -> bool {
+        self.csm1.pairs == self.csm2.pairs
+            && self
+                .kratos
+                .as_ref()
+                .is_none_or(|k| k.pairs == self.csm1.pairs)
+    }
+}
+
+struct Options {
+    sizes: Vec<String>,
+    scenes: Vec<String>,
+    types: Option<Vec<String>>,
+    all_types_up_to: f64,
+    kratos: bool,
+    repeat: usize,
+}
+
+fn parse_options(args: &[String]) -> Result<Options> {
+    let mut o = Options {
+        sizes: ["1e3", "3e3", "1e4", "3e4", "1e5", "2e5"]
+            .map(str::to_owned)
+            .to_vec(),
+        scenes: vec!["sphere_on_plate".to_owned(), "stacked_blocks".to_owned()],
+        types: None,
+        all_types_up_to: 3e4,
+        kratos: true,
+        repeat: 3,
+    };
+    let list = |v: Option<&String>| -> Result<Vec<String>> {
+        Ok(v.context("missing value")?
+            .split(',')
+            .map(str::to_owned)
+            .collect())
+    };
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--sizes" => o.sizes = list(it.next())?,
+            "--scenes" => o.scenes = list(it.next())?,
+            "--types" => o.types = Some(list(it.next())?),
+            "--all-types-up-to" => {
+                o.all_types_up_to = it.next().context("missing value")?.parse()?;
+            }
+            "--no-kratos" => o.kratos = false,
+            "--repeat" => o.repeat = it.next().context("missing value")?.parse()?,
+            other => bail!("unknown option {other}"),
+        }
+    }
+    for s in &o.sizes {
+        s.parse::<f64>()
+            .with_context(|| format!("size {s} is not a number"))?;
+    }
+    Ok(o)
+}
+
+/// Runs `program args` under `/usr/bin/time`; returns (wall s, peak kB).
+fn timed(program: &str, args: &[&str], envs: &[(&str, &str)], dir: &Path) -> Result<(f64, u64)> {
+    let stats = dir.join("time.txt");
+    let status = Command::new("/usr/bin/time")
+        .arg("-f")
+        .arg("%e %M")
+        .arg("-o")
+        .arg(&stats)
+        .arg(program)
+        .args(args)
+        .envs(envs.iter().copied())
+        .current_dir(workspace_root())
+        .stdout(std::process::Stdio::null())
+        .status()
+        .with_context(|| format!("cannot run /usr/bin/time {program}"))?;
+    if !status.success() {
+        bail!("{program} {} failed ({status})", args.join(" "));
+    }
+    let text = std::fs::read_to_string(&stats)?;
+    let last = text.lines().last().unwrap_or_default();
+    let mut f = last.split_whitespace();
+    let wall = f.next().context("no wall time")?.parse()?;
+    let rss = f.next().context("no peak memory")?.parse()?;
+    Ok((wall, rss))
+}
+
+fn read_result(path: &Path, wall: f64, rss_kb: u64) -> Result<Run> {
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(path)?)
+        .with_context(|| format!("{} is not JSON", path.display()))?;
+    let timings = v["timings_s"]
+        .as_object()
+        .map(|m| {
+            m.iter()
+                .filter_map(|(k, t)| Some((k.clone(), t.as_f64()?)))
+                .collect()
+        })
+        .unwrap_or_default();
+    Ok(Run {
+        wall,
+        rss_kb,
+        timings,
+        pairs: v["pairs"].clone(),
+    })
+}
+
+/// `pip install gmsh` into the Kratos venv when it lacks it.
+fn ensure_gmsh(python: &str) -> Result<()> {
+    let ok = Command::new(python)
+        .args(["-c", "import gmsh"])
+        .status()
+        .is_ok_and(|s| s.success());
+    if !ok {
+        crate::run(python, &["-m", "pip", "install", "--quiet", "gmsh"], &[])?;
+    }
+    Ok(())
+}
+
+/// `cargo xtask bench`.
+pub fn bench(args: &[String]) -> Result<()> {
+    let o = parse_options(args)?;
+    let root = workspace_root();
+    crate::cargo(&["build", "--release", "--bin", "csm"], &[])?;
+    let csm = root.join("target/release/csm");
+    let python = kratos_python()?;
+    ensure_gmsh(&python)?;
+    let dir = root.join("target/bench");
+    std::fs::create_dir_all(&dir)?;
+
+    // Scenes.
+    let mut meshes: BTreeMap<(String, String), (PathBuf, usize, usize)> = BTreeMap::new();
+    for scene in &o.scenes {
+        for size in &o.sizes {
+            let path = dir.join(format!("{scene}_{size}.mdpa"));
+            if !path.exists() {
+                crate::run(
+                    &python,
+                    &[
+                        "tools/bench_scenes.py",
+                        &dir.to_string_lossy(),
+                        &format!("{scene}:{size}"),
+                    ],
+                    &[],
+                )?;
+            }
+            let head = std::fs::read_to_string(&path)?
+                .lines()
+                .nth(1)
+                .unwrap_or_default()
+                .to_owned();
+            // "// N nodes, E elements, S slave and M master faces"
+            let words: Vec<&str> = head.split_whitespace().collect();
+            let num =
+                |i: usize| -> usize { words.get(i).and_then(|w| w.parse().ok()).unwrap_or(0) };
+            meshes.insert((scene.clone(), size.clone()), (path, num(5), num(8)));
+        }
+    }
+
+    let mut rows = Vec::new();
+    for scene in &o.scenes {
+        for size in &o.sizes {
+            let n: f64 = size.parse()?;
+            let types: Vec<String> = match &o.types {
+                Some(t) => t.clone(),
+                None => TYPES
+                    .iter()
+                    .filter(|t| **t == TYPES[0] || n <= o.all_types_up_to)
+                    .map(|t| (*t).to_owned())
+                    .collect(),
+            };
+            let (mesh, slave, master) = meshes[&(scene.clone(), size.clone())].clone();
+            for ty in types {
+                let setup = dir.join(format!("setup_{ty}.json"));
+                std::fs::write(
+                    &setup,
+                    serde_json::to_string_pretty(&json!({
+                        "model_part_name": "Structure",
+                        "contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
+                        "assume_master_slave": {"0": ["Parts_Slave"]},
+                        "contact_type": "Frictionless",
+                        "search_parameters": {"type_search": ty},
+                    }))?,
+                )?;
+                eprintln!("bench: {scene} {size} ({slave} slave faces) {ty}");
+                let csm_run = |threads: &str| -> Result<Run> {
+                    let out = dir.join(format!("csm_{threads}.json"));
+                    let mut best: Option<Run> = None;
+                    for _ in 0..o.repeat.max(1) {
+                        let (wall, rss) = timed(
+                            &csm.to_string_lossy(),
+                            &[
+                                "search",
+                                &mesh.to_string_lossy(),
+                                "--setup",
+                                &setup.to_string_lossy(),
+                                "-o",
+                                &out.to_string_lossy(),
+                                "--threads",
+                                threads,
+                                "--quiet",
+                            ],
+                            &[],
+                            &dir,
+                        )?;
+                        let run = read_result(&out, wall, rss)?;
+                        if best
+                            .as_ref()
+                            .is_none_or(|b| run.t("search") < b.t("search"))
+                        {
+                            best = Some(run);
+                        }
+                    }
+                    best.context("no run")
+                };
+                let csm1 = csm_run("1")?;
+                let csm2 = csm_run("2")?;
+                let kratos = if o.kratos && ty != "kdop_18" {
+                    let out = dir.join("kratos.json");
+                    let (wall, rss) = timed(
+                        &python,
+                        &[
+                            "tools/kratos_bench.py",
+                            &mesh.to_string_lossy(),
+                            &setup.to_string_lossy(),
+                            &out.to_string_lossy(),
+                        ],
+                        &[("OMP_NUM_THREADS", "1"), ("OMP_WAIT_POLICY", "passive")],
+                        &dir,
+                    )?;
+                    Some(read_result(&out, wall, rss)?)
+                } else {
+                    None
+                };
+                let row = Row {
+                    scene: scene.clone(),
+                    size: size.clone(),
+                    slave,
+                    master,
+                    type_search: ty,
+                    csm1,
+                    csm2,
+                    kratos,
+                };
+                eprintln!(
+                    "  pairs {} identical {}; search: csm {:.4} s (1 thread) {:.4} s (2), Kratos {}",
+                    row.csm1.n_pairs(),
+                    row.identical(),
+                    row.csm1.t("search"),
+                    row.csm2.t("search"),
+                    row.kratos
+                        .as_ref()
+                        .map_or("-".to_owned(), |k| format!("{:.4} s", k.t("search")))
+                );
+                rows.push(row);
+            }
+        }
+    }
+    std::fs::write(root.join("docs/performance.md"), report(&rows, &o)?)?;
+    std::fs::write(root.join("docs/performance.svg"), svg(&rows))?;
+    std::fs::write(
+        root.join("docs/performance.json"),
+        serde_json::to_string_pretty(&rows_json(&rows))? + "\n",
+    )?;
+    eprintln!("wrote docs/performance.md, docs/performance.svg, docs/performance.json");
+    Ok(())
+}
+
+fn run_json(r: &Run) -> Value {
+    json!({"wall_s": r.wall, "peak_rss_kb": r.rss_kb, "timings_s": r.timings,
+           "pairs": r.n_pairs()})
+}
+
+fn rows_json(rows: &[Row]) -> Value {
+    rows.iter()
+        .map(|r| {
+            json!({"scene": r.scene, "size": r.size, "slave_faces": r.slave,
+                   "master_faces": r.master, "type_search": r.type_search,
+                   "identical_pairs": r.identical(), "csm_1_thread": run_json(&r.csm1),
+                   "csm_2_threads": run_json(&r.csm2),
+                   "kratos": r.kratos.as_ref().map(run_json)})
+        })
+        .collect()
+}
+
+/// Least-squares slope of log(t) against log(n).
+fn growth(points: &[(f64, f64)]) -> Option<f64> {
+    let p: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|(n, t)| *n > 0.0 && *t > 0.0 && t.is_finite())
+        .map(|(n, t)| (n.ln(), t.ln()))
+        .collect();
+    if p.len() < 2 {
+        return None;
+    }
+    let k = p.len() as f64;
+    let (sx, sy) = p.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
+    let (mx, my) = (sx / k, sy / k);
+    let num: f64 = p.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    let den: f64 = p.iter().map(|(x, _)| (x - mx) * (x - mx)).sum();
+    (den > 0.0).then(|| num / den)
+}
+
+fn ratio(a: f64, b: f64) -> String {
+    if a.is_finite() && b.is_finite() && b > 0.0 {
+        format!("{:.1}×", a / b)
+    } else {
+        "–".to_owned()
+    }
+}
+
+fn secs(t: f64) -> String {
+    if t.is_finite() {
+        format!("{t:.4}")
+    } else {
+        "–".to_owned()
+    }
+}
+
+fn mib(kb: u64) -> String {
+    format!("{:.0}", kb as f64 / 1024.0)
+}
+
+fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_owned())
+        })
+        .unwrap_or_else(|| "unknown CPU".to_owned());
+    let cores = std::thread::available_parallelism().map_or(0, usize::from);
+    format!("{cpu}, {cores} cores available")
+}
+
+fn report(rows: &[Row], o: &Options) -> Result<String> {
+    let mut s = String::new();
+    writeln!(
+        s,
+        "# Performance: csm against Kratos 10.4.4\n\n\
+         Generated by `cargo xtask bench` (do not edit; `xtask/src/bench.rs`). Machine: {}.\n\
+         Kratos runs with `OMP_NUM_THREADS=1`; csm with `--threads 1` and `--threads 2` (the \
+         fastest of {} runs). Scenes from `tools/bench_scenes.py` (gmsh), default setup \
+         (MappingCheck, Advanced activation) with the type_search of the table.\n\n\
+         * **search**: Kratos' ExecuteInitializeSolutionStep and csm's `timings_s.search` (the \
+         same work: normals, tree, broad and narrow phase, mortar mapping and pruning, paired \
+         conditions, weighted gap, activation).\n\
+         * **whole**: wall time of the whole process (read + initialise + search, plus Kratos' \
+         import), `/usr/bin/time`; **RSS**: its peak resident memory (MiB).\n\
+         * **pairs**: INDEX_MAP entries after the step; **same**: csm (1 and 2 threads) and \
+         Kratos give identical pair sets.\n",
+        machine(),
+        o.repeat
+    )?;
+    let mut groups: BTreeMap<(String, String), Vec<&Row>> = BTreeMap::new();
+    for r in rows {
+        groups
+            .entry((r.scene.clone(), r.type_search.clone()))
+            .or_default()
+            .push(r);
+    }
+    for ((scene, ty), rs) in &groups {
+        writeln!(s, "\n## {scene}, {ty}\n")?;
+        writeln!(
+            s,
+            "| slave faces | master faces | pairs | same | Kratos search (s) | csm 1 thread (s) | \
+             csm 2 threads (s) | ratio 1 thread | ratio 2 threads | 2 threads / 1 | \
+             Kratos whole (s) | csm whole (s) | ratio whole | Kratos RSS | csm RSS | RSS ratio |"
+        )?;
+        writeln!(s, "|{}", "---|".repeat(16))?;
+        for r in rs {
+            let k = r.kratos.as_ref();
+            let ks = k.map_or(f64::NAN, |k| k.t("search"));
+            let kw = k.map_or(f64::NAN, |k| k.wall);
+            let kr = k.map_or(f64::NAN, |k| k.rss_kb as f64);
+            writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                r.slave,
+                r.master,
+                r.csm1.n_pairs(),
+                if r.identical() { "yes" } else { "**NO**" },
+                secs(ks),
+                secs(r.csm1.t("search")),
+                secs(r.csm2.t("search")),
+                ratio(ks, r.csm1.t("search")),
+                ratio(ks, r.csm2.t("search")),
+                ratio(r.csm1.t("search"), r.csm2.t("search")),
+                secs(kw),
+                secs(r.csm2.wall),
+                ratio(kw, r.csm2.wall),
+                k.map_or("–".to_owned(), |k| mib(k.rss_kb)),
+                mib(r.csm2.rss_kb),
+                if kr.is_finite() {
+                    format!("{:.2}", r.csm2.rss_kb as f64 / kr)
+                } else {
+                    "–".to_owned()
+                },
+            )?;
+        }
+        let pts = |f: &dyn Fn(&Row) -> f64| -> Vec<(f64, f64)> {
+            rs.iter().map(|r| (r.slave as f64, f(r))).collect()
+        };
+        let g = |p: Option<f64>| p.map_or("–".to_owned(), |e| format!("{e:.2}"));
+        writeln!(
+            s,
+            "\nGrowth exponent of the search time against slave faces (least squares on \
+             log–log; n log n is about 1.1 over this range): csm 1 thread {}, csm 2 threads \
+             {}, Kratos {}.",
+            g(growth(&pts(&|r| r.csm1.t("search")))),
+            g(growth(&pts(&|r| r.csm2.t("search")))),
+            g(growth(&pts(&|r| r
+                .kratos
+                .as_ref()
+                .map_or(f64::NAN, |k| k.t("search"))))),
+        )?;
+    }
+    writeln!(s, "\n## Targets\n")?;
+    writeln!(
+        s,
+        "The issue's targets, on the default type_search (in_radius_with_obb) at ~3e4 and \
+         ~2e5 slave faces (the sizes nearest to them that ran): search at least 50× faster \
+         than Kratos with 2 threads and 25× with 1; whole process at least 20× faster; peak \
+         memory at most a quarter of Kratos'.\n"
+    )?;
+    writeln!(
+        s,
+        "| scene | slave faces | search 2 threads (≥ 50×) | search 1 thread (≥ 25×) | whole (≥ 20×) | memory (≤ 0.25) | pairs identical |"
+    )?;
+    writeln!(s, "|---|---|---|---|---|---|---|")?;
+    for r in rows.iter().filter(|r| r.type_search == TYPES[0]) {
+        let Some(k) = &r.kratos else { continue };
+        let n: f64 = r.size.parse().unwrap_or(0.0);
+        if !(n == 3e4 || n == 2e5) {
+            continue;
+        }
+        let verdict = |value: f64, target: f64, higher: bool| {
+            let met = if higher {
+                value >= target
+            } else {
+                value <= target
+            };
+            format!("{value:.2} {}", if met { "met" } else { "**missed**" })
+        };
+        writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} |",
+            r.scene,
+            r.slave,
+            verdict(k.t("search") / r.csm2.t("search"), 50.0, true),
+            verdict(k.t("search") / r.csm1.t("search"), 25.0, true),
+            verdict(k.wall / r.csm2.wall, 20.0, true),
+            verdict(r.csm2.rss_kb as f64 / k.rss_kb as f64, 0.25, false),
+            if r.identical() { "yes" } else { "**NO**" },
+        )?;
+    }
+    writeln!(s, "\n![search time against slave faces](performance.svg)")?;
+    Ok(s)
+}
+
+/// Log–log plot of the search-step time against slave faces: Kratos, csm 1 and 2 threads,
+/// per scene (default type_search).
+fn svg(rows: &[Row]) -> String {
+    let (w, h, left, right, top, bottom) = (720.0, 480.0, 70.0, 200.0, 20.0, 50.0);
+    let rows: Vec<&Row> = rows.iter().filter(|r| r.type_search == TYPES[0]).collect();
+    let mut series: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
+    for r in &rows {
+        let n = r.slave as f64;
+        if let Some(k) = &r.kratos {
+            series
+                .entry(format!("{} Kratos", r.scene))
+                .or_default()
+                .push((n, k.t("search")));
+        }
+        series
+            .entry(format!("{} csm 1 thread", r.scene))
+            .or_default()
+            .push((n, r.csm1.t("search")));
+        series
+            .entry(format!("{} csm 2 threads", r.scene))
+            .or_default()
+            .push((n, r.csm2.t("search")));
+    }
+    let all: Vec<(f64, f64)> = series
+        .values()
+        .flatten()
+        .copied()
+        .filter(|(n, t)| *n > 0.0 && *t > 0.0)
+        .collect();
+    let mut out = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" \
+         font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" \
+         fill=\"white\"/>\n"
+    );
+    if all.is_empty() {
+        out.push_str("</svg>\n");
+        return out;
+    }
+    let lx = |v: f64| v.log10();
+    let (x0, x1) = (
+        all.iter()
+            .map(|p| lx(p.0))
+            .fold(f64::INFINITY, f64::min)
+            .floor(),
+        all.iter()
+            .map(|p| lx(p.0))
+            .fold(f64::NEG_INFINITY, f64::max)
+            .ceil(),
+    );
+    let (y0, y1) = (
+        all.iter()
+            .map(|p| lx(p.1))
+            .fold(f64::INFINITY, f64::min)
+            .floor(),
+        all.iter()
+            .map(|p| lx(p.1))
+            .fold(f64::NEG_INFINITY, f64::max)
+            .ceil(),
+    );
+    let px = |v: f64| left + (lx(v) - x0) / (x1 - x0).max(1e-9) * (w - left - right);
+    let py = |v: f64| h - bottom - (lx(v) - y0) / (y1 - y0).max(1e-9) * (h - top - bottom);
+    let _ = writeln!(
+        out,
+        "<line x1=\"{left}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"black\"/>\n<line x1=\"{left}\" \
+         y1=\"{top}\" x2=\"{left}\" y2=\"{}\" stroke=\"black\"/>",
+        h - bottom,
+        w - right,
+        h - bottom,
+        h - bottom
+    );
+    for e in x0 as i32..=x1 as i32 {
+        let x = px(10f64.powi(e));
+        let _ = writeln!(
+            out,
+            "<text x=\"{x:.1}\" y=\"{:.1}\" text-anchor=\"middle\">1e{e}</text>",
+            h - bottom + 16.0
+        );
+    }
+    for e in y0 as i32..=y1 as i32 {
+        let y = py(10f64.powi(e));
+        let _ = writeln!(
+            out,
+            "<text x=\"{:.1}\" y=\"{y:.1}\" text-anchor=\"end\">1e{e} s</text>\n<line x1=\"{left}\" \
+             y1=\"{y:.1}\" x2=\"{}\" y2=\"{y:.1}\" stroke=\"#ddd\"/>",
+            left - 6.0,
+            w - right
+        );
+    }
+    let _ = writeln!(
+        out,
+        "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">slave faces (search step, \
+         in_radius_with_obb)</text>",
+        (left + w - right) / 2.0,
+        h - 10.0
+    );
+    let colours = [
+        "#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b",
+    ];
+    for (i, (name, pts)) in series.iter().enumerate() {
+        let colour = colours[i % colours.len()];
+        let dash = if name.contains("stacked") {
+            " stroke-dasharray=\"6 3\""
+        } else {
+            ""
+        };
+        let path: Vec<String> = pts
+            .iter()
+            .filter(|(n, t)| *n > 0.0 && *t > 0.0)
+            .map(|(n, t)| format!("{:.1},{:.1}", px(*n), py(*t)))
+            .collect();
+        let _ = writeln!(
+            out,
+            "<polyline fill=\"none\" stroke=\"{colour}\" stroke-width=\"2\"{dash} points=\"{}\"/>",
+            path.join(" ")
+        );
+        let ly = top + 16.0 * i as f64 + 10.0;
+        let _ = writeln!(
+            out,
+            "<line x1=\"{:.1}\" y1=\"{ly:.1}\" x2=\"{:.1}\" y2=\"{ly:.1}\" stroke=\"{colour}\" \
+             stroke-width=\"2\"{dash}/>\n<text x=\"{:.1}\" y=\"{:.1}\">{name}</text>",
+            w - right + 10.0,
+            w - right + 30.0,
+            w - right + 34.0,
+            ly + 4.0
+        );
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn growth_exponent_of_a_power_law() {
+        let pts: Vec<(f64, f64)> = [1e3, 1e4, 1e5].iter().map(|n| (*n, 2e-6 * n * n)).collect();
+        assert!((growth(&pts).unwrap() - 2.0).abs() < 1e-12);
+        assert_eq!(growth(&pts[..1]), None);
+    }
+
+    #[test]
+    fn options_parse_and_reject_unknown_flags() {
+        let o = parse_options(&["--sizes".into(), "1e3,2e5".into(), "--no-kratos".into()]).unwrap();
+        assert_eq!(o.sizes, ["1e3", "2e5"]);
+        assert!(!o.kratos);
+        assert!(parse_options(&["--fast".into()]).is_err());
+        assert!(parse_options(&["--sizes".into(), "big".into()]).is_err());
+    }
+}
