@@ -10,6 +10,8 @@ use csm_model::{
     ConditionId, ConditionIdx, Flag, ModelPart, NodeIdx, PartIdx, ScalarVar, VectorVar,
 };
 
+use rayon::prelude::*;
+
 use crate::error::Error;
 
 /// `NORMAL_GAP` before the mapping (CheckPairing step a): a slave node nothing was mapped onto
@@ -196,6 +198,62 @@ fn mean_normals(model: &mut ModelPart, conditions: &[ConditionIdx]) -> Result<()
     Ok(())
 }
 
+/// The entries of one slave condition's INDEX_MAP after the segmentation.
+#[derive(Default)]
+struct SlaveMapping {
+    kept: Vec<MappedPair>,
+    removed: Vec<RemovedEntry>,
+}
+
+/// Segments every INDEX_MAP entry of slave condition `sc`: entries without overlap are
+/// removed; the others get the dual basis and the mapper's `D`, `M` operators.
+fn map_slave(
+    model: &ModelPart,
+    sc: ConditionIdx,
+    seg_settings: &SegmentationSettings,
+    op_settings: &OperatorSettings,
+) -> Result<SlaveMapping, Error> {
+    let mut out = SlaveMapping::default();
+    let entries: Vec<(ConditionId, Option<ConditionId>)> = model.index_map(sc).iter().collect();
+    if entries.is_empty() {
+        return Ok(out);
+    }
+    let sdata = face_data(model, sc);
+    let slave = make_face(model, sc, &sdata)?;
+    let slave_id = model.conditions().ids()[sc.index()];
+    for (master_id, paired) in entries {
+        let Some(mc) = model
+            .conditions()
+            .index_of(master_id.get())
+            .map(|i| ConditionIdx(u32::try_from(i).expect("condition index fits u32")))
+        else {
+            continue;
+        };
+        let mdata = face_data(model, mc);
+        let master = make_face(model, mc, &mdata)?;
+        let seg = exact_segmentation(&slave, &master, seg_settings)
+            .map_err(|e| Error::condition("mortar segmentation", slave_id, &e))?;
+        let Some(seg) = seg.filter(|g| !g.cells().is_empty()) else {
+            out.removed.push(RemovedEntry {
+                slave: sc,
+                master: master_id,
+                paired,
+            });
+            continue;
+        };
+        let gps = integration_points(&slave, &master, &seg, op_settings)
+            .map_err(|e| Error::condition("mortar integration", slave_id, &e))?;
+        let basis = dual_basis(&slave, &gps);
+        let operators = mortar_operators(&slave, &master, &gps, Some(&basis));
+        out.kept.push(MappedPair {
+            slave_nodes: model.conditions().nodes(sc.index()).to_vec(),
+            master_nodes: model.conditions().nodes(mc.index()).to_vec(),
+            operators,
+        });
+    }
+    Ok(out)
+}
+
 /// One pair with an overlap: its operators.
 struct MappedPair {
     slave_nodes: Vec<NodeIdx>,
@@ -267,14 +325,25 @@ pub fn normal_gap_process(
     }
     let mut area = vec![0.0; n_nodes];
     let mut ref_area: Real = 0.0;
-    let mut points = Vec::new();
-    for &c in s.master_conditions.iter().chain(&s.slave_conditions) {
-        let id = model.conditions().ids()[c.index()];
-        model.gather_points(model.conditions().nodes(c.index()), &mut points);
-        let a = Geometry::new(model.conditions().kind(c.index()), &points)
-            .and_then(|g| g.area())
-            .map_err(|e| Error::condition("area", id, &e))?;
-        ref_area = ref_area.max(a);
+    let all: Vec<ConditionIdx> = s
+        .master_conditions
+        .iter()
+        .chain(&s.slave_conditions)
+        .copied()
+        .collect();
+    let m = &*model;
+    let areas: Vec<Result<Real, Error>> = all
+        .par_iter()
+        .map_init(Vec::new, |points, &c| {
+            let id = m.conditions().ids()[c.index()];
+            m.gather_points(m.conditions().nodes(c.index()), points);
+            Geometry::new(m.conditions().kind(c.index()), points)
+                .and_then(|g| g.area())
+                .map_err(|e| Error::condition("area", id, &e))
+        })
+        .collect();
+    for a in areas {
+        ref_area = ref_area.max(a?);
     }
     // 3. Segmentation of every INDEX_MAP entry.
     let seg_settings = SegmentationSettings {
@@ -284,44 +353,18 @@ pub fn normal_gap_process(
     let op_settings = OperatorSettings::mapper();
     let mut report = MappingReport::default();
     let mut pairs = Vec::new();
-    for &sc in &s.slave_conditions {
-        let entries: Vec<(ConditionId, Option<ConditionId>)> = model.index_map(sc).iter().collect();
-        if entries.is_empty() {
-            continue;
-        }
-        let sdata = face_data(model, sc);
-        let slave = make_face(model, sc, &sdata)?;
-        let slave_id = model.conditions().ids()[sc.index()];
-        for (master_id, paired) in entries {
-            let Some(mc) = model
-                .conditions()
-                .index_of(master_id.get())
-                .map(|i| ConditionIdx(u32::try_from(i).expect("condition index fits u32")))
-            else {
-                continue;
-            };
-            let mdata = face_data(model, mc);
-            let master = make_face(model, mc, &mdata)?;
-            let seg = exact_segmentation(&slave, &master, &seg_settings)
-                .map_err(|e| Error::condition("mortar segmentation", slave_id, &e))?;
-            let Some(seg) = seg.filter(|g| !g.cells().is_empty()) else {
-                report.removed.push(RemovedEntry {
-                    slave: sc,
-                    master: master_id,
-                    paired,
-                });
-                continue;
-            };
-            let gps = integration_points(&slave, &master, &seg, &op_settings)
-                .map_err(|e| Error::condition("mortar integration", slave_id, &e))?;
-            let basis = dual_basis(&slave, &gps);
-            let operators = mortar_operators(&slave, &master, &gps, Some(&basis));
-            pairs.push(MappedPair {
-                slave_nodes: model.conditions().nodes(sc.index()).to_vec(),
-                master_nodes: model.conditions().nodes(mc.index()).to_vec(),
-                operators,
-            });
-        }
+    // Every slave condition's entries in parallel; kept and removed entries are collected in
+    // slave-condition order, as Kratos' loop visits them.
+    let m = &*model;
+    let per_slave: Vec<Result<SlaveMapping, Error>> = s
+        .slave_conditions
+        .par_iter()
+        .map(|&sc| map_slave(m, sc, &seg_settings, &op_settings))
+        .collect();
+    for mapped in per_slave {
+        let mapped = mapped?;
+        report.removed.extend(mapped.removed);
+        pairs.extend(mapped.kept);
     }
     for r in &report.removed {
         model.index_map_mut(r.slave).remove_id(r.master);

@@ -7,6 +7,7 @@ use csm_geometry::{
     integration_points, mortar_operators,
 };
 use csm_model::{ConditionIdx, ModelPart, PartIdx, ScalarVar};
+use rayon::prelude::*;
 
 use crate::error::Error;
 use crate::mapping::{face_data, make_face};
@@ -47,33 +48,73 @@ pub fn compute_weighted_gap(
         distance_threshold,
     };
     let op_settings = OperatorSettings::explicit();
-    for &(sc, mc) in pairs {
-        let slave_id = model.conditions().ids()[sc.index()];
-        let sdata = face_data(model, sc);
-        let mdata = face_data(model, mc);
-        let slave = make_face(model, sc, &sdata)?;
-        let master = make_face(model, mc, &mdata)?;
-        let wrap =
-            |what: &'static str| move |e: csm_geometry::Error| Error::condition(what, slave_id, &e);
-        let Some(seg) = exact_segmentation(&slave, &master, &seg_settings)
-            .map_err(wrap("mortar segmentation"))?
-        else {
+    // Every pair's contribution in parallel, added below in pair order (Kratos' sums).
+    let m = &*model;
+    let contributions: Vec<Result<Option<PairGap>, Error>> = pairs
+        .par_iter()
+        .map(|&(sc, mc)| pair_weighted_gap(m, sc, mc, &seg_settings, &op_settings, dim))
+        .collect();
+    for contribution in contributions {
+        let Some(pair) = contribution? else {
             continue;
         };
-        let slave_area = Geometry::new(model.conditions().kind(sc.index()), &sdata.points)
-            .and_then(|g| g.area())
-            .map_err(wrap("area"))?;
-        if seg.cells().is_empty() || seg.overlap_area() / slave_area <= WEIGHTED_GAP_AREA_RATIO {
-            continue;
+        for (n, g) in model
+            .conditions()
+            .nodes(pair.slave.index())
+            .iter()
+            .zip(&pair.gaps)
+        {
+            wg[n.index()] += g;
         }
-        let gps = integration_points(&slave, &master, &seg, &op_settings)
-            .map_err(wrap("mortar integration"))?;
-        let basis = dual_basis(&slave, &gps);
-        let ops = mortar_operators(&slave, &master, &gps, Some(&basis));
-        let slave_nodes = model.conditions().nodes(sc.index());
-        // Kratos: `D_x1_M_x2 = prod(D, x1) − prod(M, x2)`, then
-        // `WEIGHTED_GAP_i += inner_prod(row_i, −n_i)` (sums in index order from 0).
-        for (i, n) in slave_nodes.iter().enumerate() {
+    }
+    if let Some(col) = model.nodal_data_mut().scalar_mut(ScalarVar::WeightedGap, 0) {
+        col.copy_from_slice(&wg);
+    }
+    Ok(())
+}
+
+/// One pair's weighted-gap contribution per slave node (in node order).
+struct PairGap {
+    slave: ConditionIdx,
+    gaps: Vec<Real>,
+}
+
+/// The contribution of the pair `(sc, mc)`, `None` when it has no overlap above
+/// [`WEIGHTED_GAP_AREA_RATIO`] of the slave's area.
+fn pair_weighted_gap(
+    model: &ModelPart,
+    sc: ConditionIdx,
+    mc: ConditionIdx,
+    seg_settings: &SegmentationSettings,
+    op_settings: &OperatorSettings,
+    dim: usize,
+) -> Result<Option<PairGap>, Error> {
+    let slave_id = model.conditions().ids()[sc.index()];
+    let sdata = face_data(model, sc);
+    let mdata = face_data(model, mc);
+    let slave = make_face(model, sc, &sdata)?;
+    let master = make_face(model, mc, &mdata)?;
+    let wrap =
+        |what: &'static str| move |e: csm_geometry::Error| Error::condition(what, slave_id, &e);
+    let Some(seg) =
+        exact_segmentation(&slave, &master, seg_settings).map_err(wrap("mortar segmentation"))?
+    else {
+        return Ok(None);
+    };
+    let slave_area = Geometry::new(model.conditions().kind(sc.index()), &sdata.points)
+        .and_then(|g| g.area())
+        .map_err(wrap("area"))?;
+    if seg.cells().is_empty() || seg.overlap_area() / slave_area <= WEIGHTED_GAP_AREA_RATIO {
+        return Ok(None);
+    }
+    let gps = integration_points(&slave, &master, &seg, op_settings)
+        .map_err(wrap("mortar integration"))?;
+    let basis = dual_basis(&slave, &gps);
+    let ops = mortar_operators(&slave, &master, &gps, Some(&basis));
+    // Kratos: `D_x1_M_x2 = prod(D, x1) − prod(M, x2)`, then
+    // `WEIGHTED_GAP_i += inner_prod(row_i, −n_i)` (sums in index order from 0).
+    let gaps = (0..sdata.points.len())
+        .map(|i| {
             let normal = sdata.nodal_normals[i];
             let mut g = 0.0;
             for k in 0..dim {
@@ -87,11 +128,8 @@ pub fn compute_weighted_gap(
                 }
                 g += (dx - mx) * -normal[k];
             }
-            wg[n.index()] += g;
-        }
-    }
-    if let Some(col) = model.nodal_data_mut().scalar_mut(ScalarVar::WeightedGap, 0) {
-        col.copy_from_slice(&wg);
-    }
-    Ok(())
+            g
+        })
+        .collect();
+    Ok(Some(PairGap { slave: sc, gaps }))
 }

@@ -30,9 +30,10 @@
 use csm_geometry::math::{Point, Vector};
 use csm_geometry::{Geometry, GeometryKind};
 use csm_model::{
-    ConditionId, ElementId, EntityKind, Flag, ModelPart, NormalsMode, VectorVar,
+    ConditionId, ElementId, EntityKind, Flag, ModelPart, NodeIdx, NormalsMode, VectorVar,
     compute_unit_normals,
 };
+use rayon::prelude::*;
 
 use crate::error::{Error, ErrorKind};
 use crate::setup::Compatibility;
@@ -93,42 +94,35 @@ pub fn normal_check(
     let backup = MarkerBackup::take(model);
     reset_marker(model, true, true, true);
 
-    // Pass 1: element faces.
-    let mut points: Vec<Point> = Vec::new();
-    let mut face_points: Vec<Point> = Vec::new();
-    for e in model.elements().indices_by_id() {
-        let kind = model.elements().kind(e);
-        if !kind.is_solid() {
-            report
+    // Pass 1: element faces. The geometric tests run in parallel; the flags are set after,
+    // in id order (the tests read no flag).
+    let order = model.elements().indices_by_id();
+    let tests: Vec<Result<Option<Vec<usize>>, Error>> = {
+        let m = &*model;
+        order
+            .par_iter()
+            .map_init(
+                || (Vec::<Point>::new(), Vec::<Point>::new()),
+                |(points, face_points), &e| inward_faces(m, e, lp, tol, points, face_points),
+            )
+            .collect()
+    };
+    for (&e, test) in order.iter().zip(tests) {
+        match test? {
+            None => report
                 .slender_elements
-                .push(ElementId(model.elements().ids()[e]));
-            continue;
-        }
-        let nodes = model.elements().nodes(e).to_vec();
-        model.gather_points(&nodes, &mut points);
-        let element = Geometry::new(kind, &points).map_err(|err| element_error(model, e, err))?;
-        let mut inverted = false;
-        for (face_kind, local) in kind.faces() {
-            face_points.clear();
-            face_points.extend(local.iter().map(|&l| points[l]));
-            let probe = face_probe(*face_kind, &face_points, lp)
-                .map_err(|err| element_error(model, e, err))?;
-            if element
-                .is_inside(&probe, tol)
-                .map_err(|err| element_error(model, e, err))?
-                .is_some()
-            {
-                inverted = true;
-                for &l in *local {
-                    model.nodes_mut().flags_mut()[nodes[l].index()].set(Flag::MARKER, true);
+                .push(ElementId(model.elements().ids()[e])),
+            Some(nodes) if nodes.is_empty() => {}
+            Some(nodes) => {
+                for l in nodes {
+                    let n = model.elements().nodes(e)[l];
+                    model.nodes_mut().flags_mut()[n.index()].set(Flag::MARKER, true);
                 }
+                model.elements_mut().flags_mut()[e].set(Flag::MARKER, true);
+                report
+                    .inverted_elements
+                    .push(ElementId(model.elements().ids()[e]));
             }
-        }
-        if inverted {
-            model.elements_mut().flags_mut()[e].set(Flag::MARKER, true);
-            report
-                .inverted_elements
-                .push(ElementId(model.elements().ids()[e]));
         }
     }
     report.inverted_conditions = mark_conditions(model);
@@ -148,34 +142,20 @@ pub fn normal_check(
         .map(<[Vector]>::to_vec)
         .unwrap_or_default();
     let mut inward = vec![false; model.nodes().len()];
-    for e in model.elements().indices_by_id() {
-        let kind = model.elements().kind(e);
-        if !kind.is_solid() {
-            continue;
-        }
-        let nodes = model.elements().nodes(e).to_vec();
-        model.gather_points(&nodes, &mut points);
-        let element = Geometry::new(kind, &points).map_err(|err| element_error(model, e, err))?;
-        let length = element
-            .length()
-            .map_err(|err| element_error(model, e, err))?;
-        for (n, x) in nodes.iter().zip(&points) {
-            if !model.nodes().flags()[n.index()].is(Flag::INTERFACE) {
-                continue;
-            }
-            let normal = normals
-                .get(n.index())
-                .copied()
-                .unwrap_or_else(Vector::zeros);
-            let probe = x + normal * (lp * length);
-            if element
-                .is_inside(&probe, tol)
-                .map_err(|err| element_error(model, e, err))?
-                .is_some()
-            {
-                model.nodes_mut().flags_mut()[n.index()].set(Flag::MARKER, true);
-                inward[n.index()] = true;
-            }
+    let order = model.elements().indices_by_id();
+    let tests: Vec<Result<Vec<NodeIdx>, Error>> = {
+        let m = &*model;
+        order
+            .par_iter()
+            .map_init(Vec::<Point>::new, |points, &e| {
+                inward_nodes(m, e, &normals, lp, tol, points)
+            })
+            .collect()
+    };
+    for test in tests {
+        for n in test? {
+            model.nodes_mut().flags_mut()[n.index()].set(Flag::MARKER, true);
+            inward[n.index()] = true;
         }
     }
     report.inward_nodes = (0..inward.len())
@@ -229,6 +209,80 @@ pub fn count_solid_elements(model: &ModelPart) -> usize {
     (0..model.elements().len())
         .filter(|&e| model.elements().kind(e).is_solid())
         .count()
+}
+
+/// Pass 1 on element `e`: `None` for a non-solid element; otherwise the local indices of the
+/// nodes of every face whose probe point lies inside the element (empty: properly oriented).
+fn inward_faces(
+    model: &ModelPart,
+    e: usize,
+    lp: f64,
+    tol: f64,
+    points: &mut Vec<Point>,
+    face_points: &mut Vec<Point>,
+) -> Result<Option<Vec<usize>>, Error> {
+    let kind = model.elements().kind(e);
+    if !kind.is_solid() {
+        return Ok(None);
+    }
+    model.gather_points(model.elements().nodes(e), points);
+    let element = Geometry::new(kind, points).map_err(|err| element_error(model, e, err))?;
+    let mut inverted = Vec::new();
+    for (face_kind, local) in kind.faces() {
+        face_points.clear();
+        face_points.extend(local.iter().map(|&l| points[l]));
+        let probe =
+            face_probe(*face_kind, face_points, lp).map_err(|err| element_error(model, e, err))?;
+        if element
+            .is_inside(&probe, tol)
+            .map_err(|err| element_error(model, e, err))?
+            .is_some()
+        {
+            inverted.extend_from_slice(local);
+        }
+    }
+    Ok(Some(inverted))
+}
+
+/// Pass 2 on element `e`: the INTERFACE nodes of a solid element whose normal, scaled by
+/// `lp` times the element's length, points inside it.
+fn inward_nodes(
+    model: &ModelPart,
+    e: usize,
+    normals: &[Vector],
+    lp: f64,
+    tol: f64,
+    points: &mut Vec<Point>,
+) -> Result<Vec<NodeIdx>, Error> {
+    let kind = model.elements().kind(e);
+    if !kind.is_solid() {
+        return Ok(Vec::new());
+    }
+    let nodes = model.elements().nodes(e);
+    model.gather_points(nodes, points);
+    let element = Geometry::new(kind, points).map_err(|err| element_error(model, e, err))?;
+    let length = element
+        .length()
+        .map_err(|err| element_error(model, e, err))?;
+    let mut inward = Vec::new();
+    for (n, x) in nodes.iter().zip(points.iter()) {
+        if !model.nodes().flags()[n.index()].is(Flag::INTERFACE) {
+            continue;
+        }
+        let normal = normals
+            .get(n.index())
+            .copied()
+            .unwrap_or_else(Vector::zeros);
+        let probe = x + normal * (lp * length);
+        if element
+            .is_inside(&probe, tol)
+            .map_err(|err| element_error(model, e, err))?
+            .is_some()
+        {
+            inward.push(*n);
+        }
+    }
+    Ok(inward)
 }
 
 /// `face.Center() + lp · face.Length() · face.UnitNormal(ξ(centre))`, in Kratos' order.
