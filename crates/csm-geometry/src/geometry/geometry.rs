@@ -54,16 +54,19 @@ impl<'a> Geometry<'a> {
     }
 
     /// Shape-function values at the local point `local`.
+    #[inline]
     pub fn shape_functions(&self, local: &Point) -> ShapeValues {
         shape::shape_functions(self.kind, local)
     }
 
     /// Local shape-function derivatives `∂N_i/∂ξ_k` at `local`.
+    #[inline]
     pub fn shape_derivatives(&self, local: &Point) -> ShapeDerivatives {
         shape::shape_derivatives(self.kind, local)
     }
 
     /// The global position `x(ξ) = Σ N_i(ξ) X_i` (sum in node order).
+    #[inline]
     pub fn global_coordinates(&self, local: &Point) -> Point {
         let n = self.shape_functions(local);
         let mut x = Vector::zeros();
@@ -75,6 +78,7 @@ impl<'a> Geometry<'a> {
 
     /// The Jacobian `J = ∂x/∂ξ` at `local` as a 3×3 matrix whose column `k` is `∂x/∂ξ_k` for
     /// `k < local_dim`; the remaining columns are zero.
+    #[inline]
     pub fn jacobian(&self, local: &Point) -> Matrix3 {
         let dn = self.shape_derivatives(local);
         let mut j = Matrix3::zeros();

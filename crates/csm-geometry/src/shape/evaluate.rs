@@ -69,6 +69,9 @@ fn barycentric(local_dim: usize, xi: &[Real; 3]) -> ([Real; 4], [[Real; 3]; 4]) 
 }
 
 /// Shape-function values and local derivatives of `kind` at the local point `local`.
+/// Always inlined: the callers want one of the two, and inlining lets the compiler drop the
+/// other and build the result in place (a hot path of the mortar routines).
+#[inline(always)]
 fn evaluate(kind: GeometryKind, local: &Point) -> (ShapeValues, ShapeDerivatives) {
     let nodes = reference_node_coordinates(kind);
     let n = nodes.len();
@@ -191,11 +194,13 @@ type Vec3 = [Real; 3];
 
 /// Values `N_i(ξ)` of the shape functions of `kind` at the local point `local`
 /// (unused local directions are ignored).
+#[inline]
 pub fn shape_functions(kind: GeometryKind, local: &Point) -> ShapeValues {
     evaluate(kind, local).0
 }
 
 /// Local derivatives `∂N_i/∂ξ_k` of the shape functions of `kind` at `local`.
+#[inline]
 pub fn shape_derivatives(kind: GeometryKind, local: &Point) -> ShapeDerivatives {
     evaluate(kind, local).1
 }
