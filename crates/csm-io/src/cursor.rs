@@ -173,7 +173,7 @@ impl<'a> Cursor<'a> {
                     .map_err(|_| self.expected_at(pos, "text", "bytes that are not UTF-8"))?;
                 if self.comments {
                     // `1.0//comment`: a comment glued to a word ends it.
-                    if let Some(cut) = text.find("//").or_else(|| text.find("/*"))
+                    if let Some(cut) = comment_start(w)
                         && cut > 0
                     {
                         text = &text[..cut];
@@ -183,6 +183,18 @@ impl<'a> Cursor<'a> {
                 Ok(Some(Token { text, pos }))
             }
             Err(_) => Ok(None),
+        }
+    }
+
+    /// The next word; the end of the file is an error that says what `expected()` returns
+    /// (built only then).
+    pub(crate) fn expect_token_with(
+        &mut self,
+        expected: impl FnOnce() -> String,
+    ) -> Result<Token<'a>, Error> {
+        match self.token()? {
+            Some(t) => Ok(t),
+            None => Err(self.eof(&expected())),
         }
     }
 
@@ -343,4 +355,16 @@ pub(crate) fn parse_f64(text: &str) -> Option<f64> {
         .parse(text)
         .ok()
         .map(|(_, v)| v)
+}
+
+/// The byte offset of the first `//` or `/*` in `w` (a byte scan: this runs on every token).
+fn comment_start(w: &[u8]) -> Option<usize> {
+    let first = |second: u8| {
+        w.windows(2)
+            .position(|pair| pair[0] == b'/' && pair[1] == second)
+    };
+    match (first(b'/'), first(b'*')) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
 }

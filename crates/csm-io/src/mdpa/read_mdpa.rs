@@ -144,8 +144,7 @@ impl<'a> Reader<'a> {
     }
 
     fn next(&mut self, block: &str) -> Result<Token<'a>, Error> {
-        let expected = format!("`End {block}`");
-        self.cur.expect_token(&expected)
+        self.cur.expect_token_with(|| format!("`End {block}`"))
     }
 
     /// `NAME value` lines up to `End <block>`; into properties `props`, or the process info.
