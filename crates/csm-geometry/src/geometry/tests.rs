@@ -404,3 +404,123 @@ fn face_unit_normals_equal_the_per_point_normals_bit_for_bit() {
         ErrorKind::Unsupported(_)
     ));
 }
+
+/// The Jacobian's fast paths for the linear kinds are bit-identical to the generic
+/// accumulation over `shape_derivatives`.
+#[test]
+fn jacobian_fast_paths_equal_the_generic_rows_bit_for_bit() {
+    let quad = [
+        p(0.1, 0.0, 0.3),
+        p(1.2, 0.1, 0.2),
+        p(1.1, 0.9, -0.1),
+        p(-0.1, 1.3, 0.3),
+    ];
+    let tri = [p(0.1, 0.2, 0.3), p(1.3, 0.1, 0.7), p(0.2, 1.1, -0.4)];
+    let tet = [
+        p(0.0, 0.1, 0.0),
+        p(1.0, 0.0, 0.2),
+        p(0.1, 1.0, 0.0),
+        p(0.0, 0.3, 1.0),
+    ];
+    let prism = [
+        p(0.0, 0.0, 0.0),
+        p(1.0, 0.1, 0.0),
+        p(0.0, 1.0, 0.1),
+        p(0.1, 0.0, 1.0),
+        p(1.2, 0.0, 1.1),
+        p(0.0, 1.1, 0.9),
+    ];
+    let flat_quad = [
+        p(0.0, 0.0, 0.0),
+        p(2.0, 0.0, 0.0),
+        p(2.0, 1.0, 0.0),
+        p(0.0, 1.5, 0.0),
+    ];
+    let flat_tri = [p(0.0, 0.0, 0.0), p(2.0, 0.5, 0.0), p(0.3, 1.0, 0.0)];
+    let locals = [
+        p(0.0, 0.0, 0.0),
+        p(0.3, -0.7, 0.0),
+        p(-1.0, 1.0, 0.0),
+        p(0.25, 0.25, 0.25),
+        p(-0.0, -0.0, 0.5),
+        p(1e-17, -0.3333333333333333, 0.1),
+    ];
+    for (kind, points) in [
+        (GeometryKind::Quadrilateral3D4, &quad[..]),
+        (GeometryKind::Quadrilateral2D4, &flat_quad[..]),
+        (GeometryKind::Triangle3D3, &tri[..]),
+        (GeometryKind::Triangle2D3, &flat_tri[..]),
+        (GeometryKind::Tetrahedra3D4, &tet[..]),
+        (GeometryKind::Prism3D6, &prism[..]),
+    ] {
+        let g = Geometry::new(kind, points).unwrap();
+        for local in &locals {
+            let mut generic = crate::math::Matrix3::zeros();
+            for (row, q) in g.shape_derivatives(local).rows().iter().zip(points) {
+                for (k, dk) in row.iter().enumerate().take(kind.local_dim()) {
+                    for c in 0..3 {
+                        generic[(c, k)] += q[c] * dk;
+                    }
+                }
+            }
+            let fast = g.jacobian(local);
+            for (a, b) in fast.iter().zip(generic.iter()) {
+                assert_eq!(a.to_bits(), b.to_bits(), "{kind:?} at {local:?}");
+            }
+        }
+    }
+}
+
+/// `global_coordinates`' fast paths for the linear kinds are bit-identical to `Σ N_i X_i`
+/// over `shape_functions`.
+#[test]
+fn global_coordinates_fast_paths_equal_the_shape_functions_bit_for_bit() {
+    let quad = [
+        p(0.1, 0.0, 0.3),
+        p(1.2, 0.1, 0.2),
+        p(1.1, 0.9, -0.1),
+        p(-0.1, 1.3, 0.3),
+    ];
+    let tri = [p(0.1, 0.2, 0.3), p(1.3, 0.1, 0.7), p(0.2, 1.1, -0.4)];
+    let tet = [
+        p(0.0, 0.1, 0.0),
+        p(1.0, 0.0, 0.2),
+        p(0.1, 1.0, 0.0),
+        p(0.0, 0.3, 1.0),
+    ];
+    let prism = [
+        p(0.0, 0.0, 0.0),
+        p(1.0, 0.1, 0.0),
+        p(0.0, 1.0, 0.1),
+        p(0.1, 0.0, 1.0),
+        p(1.2, 0.0, 1.1),
+        p(0.0, 1.1, 0.9),
+    ];
+    let locals = [
+        p(0.0, 0.0, 0.0),
+        p(0.3, -0.7, 0.0),
+        p(-1.0, 1.0, 0.0),
+        p(0.25, 0.25, 0.25),
+        p(-0.0, -0.0, 0.5),
+        p(1e-17, -0.3333333333333333, 0.1),
+        p(0.1, 0.2, 0.30000000000000004),
+    ];
+    for (kind, points) in [
+        (GeometryKind::Quadrilateral3D4, &quad[..]),
+        (GeometryKind::Triangle3D3, &tri[..]),
+        (GeometryKind::Tetrahedra3D4, &tet[..]),
+        (GeometryKind::Prism3D6, &prism[..]),
+    ] {
+        let g = Geometry::new(kind, points).unwrap();
+        for local in &locals {
+            let mut generic = Vector::zeros();
+            for (ni, q) in g.shape_functions(local).iter().zip(points) {
+                generic += q.coords * *ni;
+            }
+            let fast = g.global_coordinates(local);
+            for (a, b) in fast.iter().zip(generic.iter()) {
+                assert_eq!(a.to_bits(), b.to_bits(), "{kind:?} at {local:?}");
+            }
+        }
+    }
+}
