@@ -83,10 +83,13 @@ enum Command {
             default_value = "csm-report"
         )]
         output: PathBuf,
-        /// Above this many faces per side, the ground truth uses a random sample of 2,000
-        /// slave faces.
+        /// Above this many faces per side, the ground truth uses a seeded random sample of
+        /// the slave faces (all masters).
         #[arg(long, default_value_t = 20_000)]
         sample_limit: usize,
+        /// How many slave faces the sample holds.
+        #[arg(long, default_value_t = 2_000)]
+        sample_size: usize,
         /// Worker threads (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
@@ -233,15 +236,21 @@ fn run(cli: Cli) -> Result<(), String> {
             setup,
             output,
             sample_limit,
+            sample_size,
             threads,
             quiet,
         } => {
             start_threads(threads)?;
             let model = csm::io::read_mesh(&mesh).map_err(|e| e.to_string())?;
             let setup = csm::cli::setup_for(setup.as_deref(), &model)?;
+            let defaults = csm::cli::ReportOptions::default();
             let options = csm::cli::ReportOptions {
                 sample_limit,
-                ..Default::default()
+                sample: csm::search::Sample {
+                    size: sample_size,
+                    ..defaults.sample
+                },
+                ..defaults
             };
             let name = mesh.file_name().map_or_else(
                 || mesh.display().to_string(),

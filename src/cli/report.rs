@@ -333,7 +333,16 @@ fn mark_pareto(rows: &mut [Row]) {
 }
 
 fn fmt_gap(e: Option<f64>) -> String {
-    e.map_or_else(|| "—".to_owned(), |e| format!("{e:.2e}"))
+    e.map_or_else(
+        || "—".to_owned(),
+        |e| {
+            if e == 0.0 {
+                "0".to_owned()
+            } else {
+                format!("{e:.2e}")
+            }
+        },
+    )
 }
 
 impl Report {
@@ -357,12 +366,13 @@ impl Report {
         );
         match self.sample {
             Some(sample) => {
+                let size = self.truths.first().map_or(0, |t| t.truth.pairs.len());
                 let _ = writeln!(
                     s,
                     "**Sampled:** more than the limit of faces per side, so the ground truth is \
                      computed for a seeded random sample of {} slave faces (seed {}) against \
                      all masters; every count below is over the sample and its nodes.\n",
-                    sample.size, sample.seed
+                    size, sample.seed
                 );
             }
             None => {

@@ -81,7 +81,8 @@ pub(super) fn find_true_pairs(
         distance_threshold: scene.distance_threshold,
     };
     let ids = model.conditions().ids();
-    let per_slave: Vec<Result<(Vec<(ConditionIdx, ConditionIdx)>, usize), Error>> = searched
+    type SlavePairs = (Vec<(ConditionIdx, ConditionIdx)>, usize);
+    let per_slave: Vec<Result<SlavePairs, Error>> = searched
         .par_iter()
         .map_init(Vec::new, |found, &s| {
             let candidates: &[ConditionIdx] = match &prefilter {
