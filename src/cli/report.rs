@@ -97,7 +97,8 @@ pub struct Row {
     pub score: Result<Score, String>,
     /// Wall time of its search step (`timings_s.search`), seconds.
     pub search_s: f64,
-    /// On the Pareto front of missed pairs against search time.
+    /// On the Pareto front of missed pairs against search time among the strategies with the
+    /// same activation rule (they share a ground truth).
     pub pareto: bool,
 }
 
@@ -308,9 +309,18 @@ fn run_strategy(
 }
 
 /// Marks the rows no other row beats in both search time and missed pairs (ties in time: the
-/// lower error; rows that failed are never on the front).
+/// lower error; rows that failed are never on the front), separately for Simple and Advanced
+/// activation.
 fn mark_pareto(rows: &mut [Row]) {
-    let mut order: Vec<usize> = (0..rows.len()).filter(|&i| rows[i].score.is_ok()).collect();
+    for simple in [true, false] {
+        mark_pareto_of(rows, simple);
+    }
+}
+
+fn mark_pareto_of(rows: &mut [Row], simple: bool) {
+    let mut order: Vec<usize> = (0..rows.len())
+        .filter(|&i| rows[i].score.is_ok() && rows[i].strategy.simple_search == simple)
+        .collect();
     let missed = |r: &Row| {
         r.score
             .as_ref()
@@ -346,15 +356,19 @@ fn fmt_gap(e: Option<f64>) -> String {
 }
 
 impl Report {
-    /// The rows on the Pareto front, in time order.
-    pub fn front(&self) -> Vec<&Row> {
-        let mut v: Vec<&Row> = self.rows.iter().filter(|r| r.pareto).collect();
+    /// The rows on the Pareto front of one activation rule, in time order.
+    pub fn front(&self, simple_search: bool) -> Vec<&Row> {
+        let mut v: Vec<&Row> = self
+            .rows
+            .iter()
+            .filter(|r| r.pareto && r.strategy.simple_search == simple_search)
+            .collect();
         v.sort_by(|a, b| a.search_s.total_cmp(&b.search_s));
         v
     }
 
     /// The report as Markdown: the scene, the ground truths, the notes, then one table row
-    /// per strategy (search times in milliseconds; `*` marks the Pareto front).
+    /// per strategy (search times in milliseconds; `*` marks the Pareto front of the row's activation rule).
     pub fn to_markdown(&self) -> String {
         let mut s = String::new();
         // Writing to a String cannot fail.
@@ -458,44 +472,51 @@ impl Report {
         s
     }
 
-    /// A short summary: the truths, the default-like strategies and the Pareto front.
+    /// A short summary: the strategy count and the Pareto front of each activation rule.
     pub fn summary(&self) -> String {
         let mut s = String::new();
-        let front: Vec<String> = self
-            .front()
-            .iter()
-            .map(|r| {
-                let st = &r.strategy;
-                format!(
-                    "{} {} {} sf {}{} ({:.2}% missed, {:.1} ms)",
-                    st.type_search.name(),
-                    st.activation(),
-                    st.compatibility.name(),
-                    st.search_factor,
-                    if st.uses_bounding_box_factor() {
-                        format!(" bbf {}", st.bounding_box_factor)
-                    } else {
-                        String::new()
-                    },
-                    r.score.as_ref().map_or(0.0, Score::missed_percent),
-                    r.search_s * 1e3
-                )
-            })
-            .collect();
         let failed = self.rows.iter().filter(|r| r.score.is_err()).count();
         let _ = writeln!(
             s,
-            "{} strategies ({} failed); Pareto front (missed pairs vs search time): {}",
+            "{} strategies ({} failed); Pareto fronts (missed true pairs vs search time):",
             self.rows.len(),
-            failed,
-            front.join("; ")
+            failed
         );
+        for simple in [false, true] {
+            let front: Vec<String> = self
+                .front(simple)
+                .iter()
+                .map(|r| {
+                    let st = &r.strategy;
+                    format!(
+                        "{} {} sf {}{} ({:.2}% missed, {:.1} ms)",
+                        st.type_search.name(),
+                        st.compatibility.name(),
+                        st.search_factor,
+                        if st.uses_bounding_box_factor() {
+                            format!(" bbf {}", st.bounding_box_factor)
+                        } else {
+                            String::new()
+                        },
+                        r.score.as_ref().map_or(0.0, Score::missed_percent),
+                        r.search_s * 1e3
+                    )
+                })
+                .collect();
+            let _ = writeln!(
+                s,
+                "  {}: {}",
+                if simple { "simple" } else { "advanced" },
+                front.join("; ")
+            );
+        }
         s
     }
 
     /// The SVG chart: search time (log scale) on x, missed true pairs (%) on y, one marker per
     /// strategy (colour: `type_search`; filled: `robust`, hollow: `kratos`; square: Advanced
-    /// activation, circle: Simple), the Pareto front as a polyline, and a legend. Coordinates
+    /// activation, circle: Simple), the Pareto front of each rule as a polyline (Advanced solid,
+    /// Simple dashed), and a legend. Coordinates
     /// have one decimal, so equal reports give equal files.
     pub fn to_svg(&self) -> String {
         const W: f64 = 760.0;
@@ -516,9 +537,10 @@ impl Report {
         if !lo.is_finite() {
             (lo, hi) = (1.0, 10.0);
         }
-        let (x0, mut x1) = (lo.log10().floor(), hi.log10().ceil());
-        if x1 <= x0 {
-            x1 = x0 + 1.0;
+        // A log axis a little wider than the data, ticks at 1, 2, 3, 5 × 10^k.
+        let (x0, mut x1) = (lo.log10() - 0.05, hi.log10() + 0.05);
+        if x1 - x0 < 0.3 {
+            x1 = x0 + 0.3;
         }
         let ymax_data = ok.iter().map(|(_, m)| *m).fold(0.0, f64::max);
         let ymax = nice_ceiling(ymax_data);
@@ -542,17 +564,22 @@ impl Report {
             s,
             r#"<path d="M{LEFT:.1} {TOP:.1} V{bx:.1} H{by:.1}" fill="none" stroke="black"/>"#
         );
-        let mut e = x0;
-        while e <= x1 + 1e-9 {
-            let x = px(10f64.powf(e));
-            let _ = writeln!(
-                s,
-                r#"<line x1="{x:.1}" y1="{bx:.1}" x2="{x:.1}" y2="{:.1}" stroke="black"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
-                bx + 5.0,
-                bx + 18.0,
-                fmt_ms(10f64.powf(e))
-            );
-            e += 1.0;
+        for e in (x0.floor() as i32)..=(x1.ceil() as i32) {
+            for m in [1.0, 2.0, 3.0, 5.0] {
+                let v = m * 10f64.powi(e);
+                let lv = v.log10();
+                if lv < x0 || lv > x1 {
+                    continue;
+                }
+                let x = px(v);
+                let _ = writeln!(
+                    s,
+                    r#"<line x1="{x:.1}" y1="{bx:.1}" x2="{x:.1}" y2="{:.1}" stroke="black"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
+                    bx + 5.0,
+                    bx + 18.0,
+                    fmt_ms(v)
+                );
+            }
         }
         for k in 0..=4 {
             let m = ymax * f64::from(k) / 4.0;
@@ -578,21 +605,28 @@ impl Report {
             (TOP + H - BOTTOM) / 2.0,
             (TOP + H - BOTTOM) / 2.0
         );
-        // The Pareto front.
-        let front: Vec<String> = self
-            .front()
-            .iter()
-            .map(|r| {
-                let m = r.score.as_ref().map_or(0.0, Score::missed_percent);
-                format!("{:.1},{:.1}", px(ms(r)), py(m))
-            })
-            .collect();
-        if !front.is_empty() {
-            let _ = writeln!(
-                s,
-                r#"<polyline points="{}" fill="none" stroke="black" stroke-dasharray="4 3"/>"#,
-                front.join(" ")
-            );
+        // The Pareto fronts: Advanced solid, Simple dashed.
+        for simple in [false, true] {
+            let front: Vec<String> = self
+                .front(simple)
+                .iter()
+                .map(|r| {
+                    let m = r.score.as_ref().map_or(0.0, Score::missed_percent);
+                    format!("{:.1},{:.1}", px(ms(r)), py(m))
+                })
+                .collect();
+            if !front.is_empty() {
+                let dash = if simple {
+                    r#" stroke-dasharray="4 3""#
+                } else {
+                    ""
+                };
+                let _ = writeln!(
+                    s,
+                    r#"<polyline points="{}" fill="none" stroke="black"{dash}/>"#,
+                    front.join(" ")
+                );
+            }
         }
         // The markers.
         for (r, m) in &ok {
@@ -682,14 +716,20 @@ impl Report {
             );
             ly += 18.0;
         }
-        let _ = writeln!(
-            s,
-            r#"<line x1="{:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="black" stroke-dasharray="4 3"/><text x="{:.1}" y="{:.1}">Pareto front</text>"#,
-            lx - 6.0,
-            lx + 6.0,
-            lx + 12.0,
-            ly + 4.0
-        );
+        for (dash, label) in [
+            ("", "Pareto front, Advanced"),
+            (r#" stroke-dasharray="4 3""#, "Pareto front, Simple"),
+        ] {
+            let _ = writeln!(
+                s,
+                r#"<line x1="{:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="black"{dash}/><text x="{:.1}" y="{:.1}">{label}</text>"#,
+                lx - 6.0,
+                lx + 6.0,
+                lx + 12.0,
+                ly + 4.0
+            );
+            ly += 18.0;
+        }
         s.push_str("</svg>\n");
         s
     }

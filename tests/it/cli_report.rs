@@ -190,7 +190,10 @@ fn report_on_a_fixture_mesh_writes_the_table_and_the_chart() {
     let setup = write_setup(&dir, "Parts_Slave", "Parts_Master");
     let mesh = repo_mesh("scenes/stacked_blocks_pen.mdpa");
     let stdout = run_report(&dir.join("out"), &mesh, Some(&setup), &[]);
-    assert!(stdout.contains("88 strategies (0 failed)"), "{stdout}");
+    assert!(
+        stdout.contains("88 strategies (0 failed); Pareto fronts"),
+        "{stdout}"
+    );
     let md = std::fs::read_to_string(dir.join("out/report.md")).unwrap();
     assert!(md.contains("The ground truth is exhaustive"));
     let rows = md
@@ -272,7 +275,7 @@ fn demo_prints_the_default_search_against_the_ground_truth_and_writes_its_report
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("truth:"), "{stdout}");
     assert!(stdout.contains("exhaustive"), "{stdout}");
-    assert!(stdout.contains("Pareto front"), "{stdout}");
+    assert!(stdout.contains("Pareto fronts"), "{stdout}");
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(md.contains("# csm report: demo scene"));
     check_svg(

@@ -44,7 +44,12 @@ fn the_pareto_front_is_the_set_of_non_dominated_rows() {
         (7.0, 5),
     ];
     let mut rows: Vec<Row> = data.iter().map(|&(t, m)| row(t, m)).collect();
+    // An Advanced row beating every Simple one does not remove them from the Simple front.
+    let mut fast = row(0.5, 0);
+    fast.strategy.simple_search = false;
+    rows.push(fast);
     mark_pareto(&mut rows);
+    assert!(rows[data.len()].pareto);
     for (i, &(ti, mi)) in data.iter().enumerate() {
         let dominated = data
             .iter()
