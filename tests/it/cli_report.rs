@@ -69,9 +69,9 @@ fn the_prefilter_never_drops_a_true_pair_on_the_fixture_scenes() {
 /// (the mean NODAL_H), so the segmentation accepts them but the OBB test drops them —
 /// `in_radius` (the same radius query without the OBB test) finds them all, which the test
 /// checks. With Simple
-/// (threshold 1e24) the truth also holds every master any distance behind a curved slave
-/// (penetration of any depth), which no bounded search reaches: there only the flat scenes
-/// are checked for missed pairs. In 2D the segmentation's threshold bounds the penetration,
+/// (threshold 1e24) the truth also holds every master a curved slave sees in front of it at
+/// any separation, which no bounded search reaches: there only the flat scenes are checked
+/// for missed pairs. In 2D the segmentation's threshold bounds the penetration,
 /// not the separation (Q21, opposite meanings), so the truth of `cylinder_on_block_2d` holds
 /// separated pairs at any distance for both rules (the default search misses 78 of 94, all
 /// without effect on ACTIVE or the gap, which are checked).
