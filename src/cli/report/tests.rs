@@ -1,5 +1,7 @@
 //! Unit tests of the report's helpers.
 
+use csm_search::GroundTruth;
+
 use super::*;
 
 #[test]
@@ -70,4 +72,56 @@ fn the_sweep_covers_every_mode_and_sweeps_bbf_in_robust_mode_only() {
             .filter(|s| s.compatibility == Compatibility::Kratos)
             .all(|s| s.bounding_box_factor == 0.1)
     );
+}
+
+fn synthetic_report() -> Report {
+    let truth = |simple: bool| TruthSummary {
+        truth: GroundTruth {
+            key: 0,
+            simple_search: simple,
+            distance_threshold: if simple { 1e24 } else { 0.1 },
+            n_slaves: 4,
+            sampled: false,
+            pairs: [(1, vec![10, 11]), (2, vec![11])].into_iter().collect(),
+            nodes: Default::default(),
+            overlap_tests: 6,
+        },
+        seconds: 0.01,
+    };
+    let mut rows = Vec::new();
+    for (i, (t, missed)) in [(2.0, 2), (5.0, 1), (40.0, 0), (3.0, 3)]
+        .into_iter()
+        .enumerate()
+    {
+        let mut r = row(t, missed);
+        r.strategy.simple_search = i % 2 == 0;
+        r.strategy.type_search = SearchTreeType::Kdop;
+        if i == 3 {
+            r.strategy.compatibility = Compatibility::Robust;
+            r.score = Err("a | failure".to_owned());
+        }
+        rows.push(r);
+    }
+    mark_pareto(&mut rows);
+    Report {
+        scene: "synthetic <scene>".to_owned(),
+        key: 0,
+        n_slaves: 4,
+        n_masters: 3,
+        sample: None,
+        truths: vec![truth(true), truth(false)],
+        rows,
+    }
+}
+
+/// The chart and the table are deterministic text (fixed precision), pinned by snapshots.
+#[test]
+fn the_chart_and_the_table_of_a_synthetic_report() {
+    let report = synthetic_report();
+    let svg = report.to_svg();
+    assert_eq!(svg, synthetic_report().to_svg());
+    assert!(svg.contains("synthetic &lt;scene&gt;"));
+    insta::assert_snapshot!("synthetic_svg", svg);
+    insta::assert_snapshot!("synthetic_markdown", report.to_markdown());
+    insta::assert_snapshot!("synthetic_summary", report.summary());
 }
