@@ -3,6 +3,7 @@
 mod cli_demo;
 mod cli_info;
 mod cli_plan;
+mod cli_report;
 mod cli_search;
 mod cli_steps;
 mod kratos_conformance;
