@@ -78,8 +78,22 @@ fn fixture_setup(scene: &str) -> Value {
         "search_parameters": {},
     });
     if scene == "plane_cylinder_cpp" {
-        // No elements: NODAL_H given (FindNodalHProcess would give DBL_MAX).
-        s["nodal_h"] = 1.0.into();
+        // Kratos' C++ test (no elements): its C++ parameters, NODAL_H and DISTANCE_THRESHOLD
+        // given (scaled with the mesh), as in `tests/fixtures/search/plane_cylinder_cpp/`.
+        s = json!({
+            "contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
+            "assume_master_slave": {"0": ["Parts_Slave"]},
+            "cpp_search_parameters": {
+                "simple_search": true,
+                "search_factor": 3.5,
+                "normal_orientation_threshold": 0.0,
+                "type_search": "InRadiusWithOBB",
+                "check_gap": "MappingCheck",
+            },
+            "nodal_h": 1.0,
+            "process_info": {"STEP": 1, "NL_ITERATION_NUMBER": 1, "DELTA_TIME": 1.0,
+                             "DISTANCE_THRESHOLD": 1.0},
+        });
     }
     s
 }
@@ -304,15 +318,19 @@ pub fn all() -> Vec<Case> {
     let zx = [1.0 / 3.0, 4.0 / 3.0, 4.0 / 3.0, 7.0 / 3.0, 13.0 / 3.0];
     let s = linspace(1.0 / 3.0, 4.0 + 1.0 / 3.0, 4);
     let m = linspace(-0.5, 4.5, 5);
-    cases.push(built(
+    // Not yet handled: a zero-area face has no normal; both modes stop with a typed error
+    // naming the condition (documented in docs/stability.md).
+    let mut zero = built(
         "zero_area_faces",
         "a column of zero-area slave faces (two coincident node pairs each), gap 0.05",
         Scene::new()
             .sheet(&slave(0.05, &zx, &s), true)
             .sheet(&master(&m, &m), false),
-        Oracle::Overlap,
+        Oracle::Error,
         Some(0.05),
-    ));
+    );
+    zero.transforms = false;
+    cases.push(zero);
     let left = linspace(1.0 / 3.0, 2.0 + 1.0 / 3.0, 2);
     let right = linspace(2.0 + 1.0 / 3.0, 4.0 + 1.0 / 3.0, 2);
     cases.push(built(
