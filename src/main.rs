@@ -36,6 +36,10 @@ enum Command {
         /// Print nothing but errors.
         #[arg(long)]
         quiet: bool,
+        /// Also write the full error-vs-run-time report of the scene (report.md,
+        /// report.svg, as `csm report`).
+        #[arg(long)]
+        report: bool,
     },
     /// Print which stages will run and which structures will be built or allocated for a
     /// mesh and a setup, and why each other one is left out. Reads the mesh and the setup as
@@ -60,6 +64,35 @@ enum Command {
         /// Report only this part (full path, `.` or `/` separated).
         #[arg(long)]
         part: Option<String>,
+    },
+    /// Measure every search strategy against the exact ground truth: missed true pairs,
+    /// spurious candidates, wrong ACTIVE flags, gap error and search time, for every
+    /// type_search × Simple/Advanced × search_factor (× bounding_box_factor) × kratos/robust;
+    /// writes report.md and report.svg (docs/report.md explains the metrics).
+    Report {
+        /// The mesh: a Kratos `.mdpa` or a Gmsh `.msh`.
+        mesh: PathBuf,
+        /// The setup, as for `csm search` (default: the parts `slave` and `master`).
+        #[arg(long)]
+        setup: Option<PathBuf>,
+        /// The folder to write report.md and report.svg into (created if missing).
+        #[arg(
+            short = 'o',
+            long = "output",
+            value_name = "DIR",
+            default_value = "csm-report"
+        )]
+        output: PathBuf,
+        /// Above this many faces per side, the ground truth uses a random sample of 2,000
+        /// slave faces.
+        #[arg(long, default_value_t = 20_000)]
+        sample_limit: usize,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Print nothing but errors.
+        #[arg(long)]
+        quiet: bool,
     },
     /// Run the contact search (one step, or every step of the setup's `steps`) and write
     /// RESULT.json.
@@ -195,11 +228,42 @@ fn run(cli: Cli) -> Result<(), String> {
             }
             Ok(())
         }
+        Command::Report {
+            mesh,
+            setup,
+            output,
+            sample_limit,
+            threads,
+            quiet,
+        } => {
+            start_threads(threads)?;
+            let model = csm::io::read_mesh(&mesh).map_err(|e| e.to_string())?;
+            let setup = csm::cli::setup_for(setup.as_deref(), &model)?;
+            let options = csm::cli::ReportOptions {
+                sample_limit,
+                ..Default::default()
+            };
+            let name = mesh.file_name().map_or_else(
+                || mesh.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            );
+            let progress = Progress::start("measuring", csm::cli::progress_wanted(quiet));
+            let report = csm::cli::run_report(&model, &setup, &name, &options);
+            progress.finish();
+            let report = report?;
+            let paths = write_report(&report, &output)?;
+            if !quiet {
+                print!("{}", report.summary());
+                println!("wrote {} and {}", paths.0.display(), paths.1.display());
+            }
+            Ok(())
+        }
         Command::Demo {
             faces,
             output,
             threads,
             quiet,
+            report,
         } => {
             start_threads(threads)?;
             let start = Instant::now();
@@ -220,8 +284,13 @@ fn run(cli: Cli) -> Result<(), String> {
             let options = RunOptions {
                 progress: csm::cli::progress_wanted(quiet),
             };
+            let pristine = scene.model.clone();
             let (result, timings) =
                 csm::cli::run_search_with(&mut scene.model, &setup, read, options)?;
+            let progress = Progress::start("ground truth", csm::cli::progress_wanted(quiet));
+            let truth = csm::cli::demo_truth(&pristine, &setup, &result);
+            progress.finish();
+            let truth = truth?;
             std::fs::create_dir_all(&output)
                 .map_err(|e| format!("{}: cannot create the folder: {e}", output.display()))?;
             let json_path = output.join("RESULT.json");
@@ -230,15 +299,43 @@ fn run(cli: Cli) -> Result<(), String> {
             csm::cli::write_search_vtu(&scene.model, &result, &vtu_path)?;
             if !quiet {
                 print!("{}", csm::cli::demo_summary(&scene, &result, &timings));
+                print!("{}", truth.line());
                 println!(
                     "wrote {} and {} (open it in ParaView)",
                     json_path.display(),
                     vtu_path.display()
                 );
             }
+            if report {
+                let progress = Progress::start("measuring", csm::cli::progress_wanted(quiet));
+                let report = csm::cli::run_report(
+                    &pristine,
+                    &setup,
+                    "demo scene",
+                    &csm::cli::ReportOptions::default(),
+                );
+                progress.finish();
+                let report = report?;
+                let paths = write_report(&report, &output)?;
+                if !quiet {
+                    print!("{}", report.summary());
+                    println!("wrote {} and {}", paths.0.display(), paths.1.display());
+                }
+            }
             Ok(())
         }
     }
+}
+
+/// Writes `report.md` and `report.svg` into `dir` (created if missing).
+fn write_report(report: &csm::cli::Report, dir: &Path) -> Result<(PathBuf, PathBuf), String> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
+    let md = dir.join("report.md");
+    let svg = dir.join("report.svg");
+    write(&md, report.to_markdown())?;
+    write(&svg, report.to_svg())?;
+    Ok((md, svg))
 }
 
 /// Sizes rayon's global pool (`--threads`); all cores when `None`.

@@ -23,7 +23,7 @@ use csm_geometry::math::{Point, Real, Vector};
 use csm_model::{
     ConditionId, ConditionIdx, ElementId, ElementIdx, ModelPart, NodeId, NodeIdx, PropertiesId,
 };
-use csm_search::SearchResult;
+use csm_search::{GroundTruth, Sample, Score, SearchResult, SearchSetup};
 
 use crate::cli::Timings;
 
@@ -323,6 +323,71 @@ pub fn demo_summary(scene: &DemoScene, result: &SearchResult, timings: &Timings)
         }
     }
     s
+}
+
+/// The default search of the demo against the ground truth ([`demo_truth`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DemoTruth {
+    /// The ground truth of the setup's first pair key.
+    pub truth: GroundTruth,
+    /// The demo's search result against it.
+    pub score: Score,
+    /// Wall time of the ground truth, seconds.
+    pub seconds: f64,
+}
+
+impl DemoTruth {
+    /// The line `csm demo` prints.
+    pub fn line(&self) -> String {
+        let sc = &self.score;
+        let gap = sc
+            .max_gap_error
+            .map_or_else(|| "—".to_owned(), |e| format!("{e:.2e}"));
+        format!(
+            "  truth:      {} true pairs ({}, {:.3} s); the search missed {} ({:.2}%)\n              {} spurious candidates before the mortar pruning, {} wrong ACTIVE flags, gap \
+             error {gap} (`csm demo --report` compares every strategy)\n",
+            sc.true_pairs,
+            if self.truth.sampled {
+                format!("a sample of {} slave faces", self.truth.pairs.len())
+            } else {
+                "exhaustive".to_owned()
+            },
+            self.seconds,
+            sc.missed,
+            sc.missed_percent(),
+            sc.spurious_candidates,
+            sc.wrong_active
+        )
+    }
+}
+
+/// The demo's summary against the ground truth: the exact pairs and gaps of `setup`'s first
+/// pair key on `model` (the scene before the search; a sample of 2,000 slave faces above
+/// 20,000 faces per side) and the score of `result`, the demo's search.
+pub fn demo_truth(
+    model: &ModelPart,
+    setup: &SearchSetup,
+    result: &SearchResult,
+) -> Result<DemoTruth, String> {
+    let key = *setup
+        .pairs
+        .keys()
+        .next()
+        .ok_or_else(|| "the setup has no contact pair".to_owned())?;
+    let faces = model.conditions().len();
+    let sample = (faces > 2 * 20_000).then_some(Sample {
+        size: 2_000,
+        seed: 1,
+    });
+    let start = std::time::Instant::now();
+    let truth = GroundTruth::compute(model, setup, key, sample).map_err(|e| e.to_string())?;
+    let seconds = start.elapsed().as_secs_f64();
+    let score = truth.score(result);
+    Ok(DemoTruth {
+        truth,
+        score,
+        seconds,
+    })
 }
 
 #[cfg(test)]

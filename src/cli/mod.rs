@@ -5,12 +5,16 @@ mod demo;
 mod info;
 pub mod logger;
 mod progress;
+mod report;
 mod search;
 mod vtk;
 
-pub use demo::{DEFAULT_FACES, DemoScene, MAX_FACES, demo_scene, demo_summary};
+pub use demo::{
+    DEFAULT_FACES, DemoScene, DemoTruth, MAX_FACES, demo_scene, demo_summary, demo_truth,
+};
 pub use info::{MeshInfo, PartInfo, mesh_info};
 pub use progress::{Progress, progress_wanted};
+pub use report::{Report, ReportOptions, Row, Strategy, TruthSummary, run_report, strategies};
 pub use search::{
     RunOptions, Timings, default_setup, load_setup, run_search, run_search_with, search_plan,
     setup_for,

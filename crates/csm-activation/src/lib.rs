@@ -6,6 +6,8 @@
 //!   nodal mean normals, the exact segmentation of every `INDEX_MAP` entry (entries without
 //!   overlap are removed — this *is* the MappingCheck pruning), the iterated dual-mortar mapping
 //!   of `AUXILIAR_COORDINATES` and `ComputeNormalGap` (`NORMAL_GAP`, sentinel 1e12, Q39).
+//! * [`overlap_measure`] (with [`mapping_normals`]): the overlap of one pair as the mapping
+//!   segments it, for callers that decide pairs themselves (the ground truth).
 //! * [`compute_weighted_gap`]: `ComputeWeightedReaction` for the paired conditions.
 //! * [`compute_active_inactive_nodes`]: `ComputeActiveInactiveNodes` (Simple / Advanced,
 //!   `SetActiveNode` / `SetInactiveNode`, Q24).
@@ -21,6 +23,7 @@ mod activation;
 mod error;
 mod mapping;
 mod multiplier;
+mod overlap;
 mod weighted_gap;
 
 #[cfg(test)]
@@ -35,6 +38,7 @@ pub use mapping::{
     MappingSettings, NORMAL_GAP_SENTINEL, RemovedEntry, mean_h, normal_gap_process,
 };
 pub use multiplier::{MultiplierKind, MultiplierSettings};
+pub use overlap::{mapping_normals, overlap_measure};
 pub use weighted_gap::{WEIGHTED_GAP_AREA_RATIO, compute_weighted_gap};
 
 /// Re-exported so that callers can choose the segmentation rules without naming

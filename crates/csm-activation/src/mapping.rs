@@ -158,7 +158,10 @@ pub(crate) fn make_face<'a>(
 /// `ComputeNodesMeanNormalModelPart` of one side: nodal NORMAL := 0 on the nodes of its
 /// conditions, condition normal := unit normal at the centre, every node accumulates the unit
 /// normal at its own local coordinates, then one normalisation (norm > eps).
-fn mean_normals(model: &mut ModelPart, conditions: &[ConditionIdx]) -> Result<(), Error> {
+pub(crate) fn mean_normals(
+    model: &mut ModelPart,
+    conditions: &[ConditionIdx],
+) -> Result<(), Error> {
     model.nodal_data_mut().add_vector(VectorVar::Normal);
     let mut sums: Vec<(NodeIdx, Vector)> = Vec::new();
     let mut index = std::collections::HashMap::new();

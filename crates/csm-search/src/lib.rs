@@ -16,6 +16,10 @@
 //! `docs/steps.md`). Not yet: self-contact (roles not predefined; Kratos 10.4.4 fails there
 //! too, Q47).
 //!
+//! [`GroundTruth`] finds the exact pair set and gap of a scene exhaustively (robust mortar
+//! segmentation of every slave × master pair behind a conservative prefilter) and
+//! [`GroundTruth::score`] measures a search against it (the error-vs-run-time report).
+//!
 //! [`Plan`] says which stages run and which structures are built for a model and a setup, and
 //! why each other one is left out (`csm plan`); [`ContactSearch`] makes the same plan and
 //! follows it, so nothing a scene or setup does not need is run or allocated.
@@ -38,5 +42,7 @@ pub use setup::{
 pub use stages::*;
 mod pipeline;
 mod plan;
+mod truth;
 pub use pipeline::*;
 pub use plan::*;
+pub use truth::{GroundTruth, MIN_OVERLAP_RATIO, Sample, Score, TruthOptions};

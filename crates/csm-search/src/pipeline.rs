@@ -20,9 +20,10 @@ mod search;
 mod shared_conditions;
 mod step_jump;
 
+pub(crate) use filters::passes_orientation;
 pub use result::{NodeResult, SearchResult, StepResult};
-pub(crate) use search::locate;
 pub use search::{ContactSearch, PairedCondition};
+pub(crate) use search::{TruthScene, locate};
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

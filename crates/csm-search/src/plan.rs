@@ -17,7 +17,7 @@ mod render;
 mod types;
 
 pub use decide::step_jump;
-pub(crate) use decide::{contact_sub_path, missing_contact_sub};
+pub(crate) use decide::{contact_sub_path, missing_contact_sub, pair_plan};
 pub use types::{
     Activation, Decision, InterfaceAction, KdQuery, NodalHSource, NodalVariable, NormalCheck,
     PairPlan, Plan, Reason, StepJump, StepsPlan, Storage, VariablePlan,

@@ -19,6 +19,11 @@ pub struct NodeResult {
 pub struct SearchResult {
     /// For every pair key, every slave-side condition id with its INDEX_MAP keys (ascending).
     pub pairs: BTreeMap<String, BTreeMap<u32, Vec<u32>>>,
+    /// For every pair key, the INDEX_MAP entries (slave condition id → master ids, ascending)
+    /// the MappingCheck mortar pruning removed in the step: the search's candidates before the
+    /// pruning are `pairs` ∪ `pruned`. Empty without MappingCheck. Not part of RESULT.json
+    /// (DESIGN.md §3); the error-vs-run-time report counts spurious candidates with it.
+    pub pruned: BTreeMap<String, BTreeMap<u32, Vec<u32>>>,
     /// Every slave-side node of the pairs.
     pub nodes: BTreeMap<u32, NodeResult>,
     /// Paired conditions created (Kratos' ComputingContact count).

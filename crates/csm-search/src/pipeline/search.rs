@@ -35,7 +35,7 @@ use crate::stages::{
 };
 
 /// The search of one pair key (one Kratos search process).
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 struct PairSearch {
     key: u32,
     params: SearchParameters,
@@ -44,10 +44,15 @@ struct PairSearch {
     sub: PartIdx,
     /// The paired conditions (Kratos' `ComputingContactSub<key>`).
     paired: Vec<PairedCondition>,
+    /// The INDEX_MAP entries (slave id, master id) the MappingCheck mortar pruning removed in
+    /// the last step.
+    pruned: Vec<(u32, u32)>,
 }
 
 /// A contact search over a model: created by [`ContactSearch::initialize`], run step by step.
-#[derive(Debug)]
+/// A clone, together with a clone of the model it was initialized on, runs independently (the
+/// error-vs-run-time report initializes once and runs many strategies from there).
+#[derive(Debug, Clone)]
 pub struct ContactSearch {
     setup: SearchSetup,
     /// What runs, decided at the start of `initialize` (the step jump again every step).
@@ -249,6 +254,7 @@ impl ContactSearch {
                 instance,
                 sub,
                 paired: Vec::new(),
+                pruned: Vec::new(),
             });
         }
         // TO_ERASE is reset on every Contact condition after the clones (§4.1); csm never
@@ -284,6 +290,152 @@ impl ContactSearch {
             .map_or(&[], |p| &p.paired)
     }
 
+    /// Replaces the search strategy of pair `key` for the next steps: `type_search`,
+    /// `search_factor` and the `octree_search_parameters` (`bounding_box_factor`, the OBB
+    /// test) of `params` are taken, and the pair's plan is decided again for them, so that
+    /// the next [`ContactSearch::step`] runs as if [`ContactSearch::initialize`] had been
+    /// given them (checked by a test). The value in force is used as given (`adapt_search`
+    /// scaled the initial one already).
+    ///
+    /// Errors ([`ErrorKind::InvalidValue`]): an unknown `key`; `params` that differ from the
+    /// pair's in anything `initialize` depends on (`check_gap`, `simple_search`,
+    /// `inverted_search`, `predefined_master_slave`, `dynamic_search`, the activation keys); a
+    /// non-finite or negative `search_factor` or `bounding_box_factor`; and, in `kratos` mode,
+    /// the octree with `inverted_search` (Kratos rejects it).
+    pub fn set_search_parameters(
+        &mut self,
+        model: &ModelPart,
+        key: u32,
+        params: &SearchParameters,
+    ) -> Result<(), Error> {
+        let invalid = |what: &str, found: String| -> Error {
+            ErrorKind::InvalidValue {
+                key: format!("search_parameters.{what}"),
+                expected: "a value the initialized search supports".to_owned(),
+                found,
+            }
+            .into()
+        };
+        let Some(i) = self.pairs.iter().position(|p| p.key == key) else {
+            return Err(invalid("<pair key>", key.to_string()));
+        };
+        let old = &self.pairs[i].params;
+        let strategy_only = SearchParameters {
+            type_search: old.type_search,
+            search_factor: old.search_factor,
+            octree: old.octree.clone(),
+            ..params.clone()
+        };
+        if strategy_only != *old {
+            return Err(invalid(
+                "*",
+                "a change beyond type_search, search_factor and octree_search_parameters"
+                    .to_owned(),
+            ));
+        }
+        for (what, v) in [
+            ("search_factor", params.search_factor),
+            (
+                "octree_search_parameters.bounding_box_factor",
+                params.octree.bounding_box_factor,
+            ),
+        ] {
+            if !v.is_finite() || v < 0.0 {
+                return Err(invalid(what, v.to_string()));
+            }
+        }
+        if params.type_search == SearchTreeType::OctreeWithObb
+            && params.inverted_search
+            && self.setup.compatibility == Compatibility::Kratos
+        {
+            return Err(invalid(
+                "type_search",
+                "octree_with_obb with inverted_search (Kratos rejects it)".to_owned(),
+            ));
+        }
+        let Some(pair_setup) = self.setup.pairs.get_mut(&key) else {
+            return Err(invalid("<pair key>", key.to_string()));
+        };
+        pair_setup.search = params.clone();
+        self.pairs[i].params = params.clone();
+        let nodes = model.part(self.pairs[i].sub).nodes().to_vec();
+        let plan = crate::plan::pair_plan(model, key, pair_setup, &nodes);
+        self.plan.pairs.insert(key, plan);
+        Ok(())
+    }
+
+    /// The ground truth's step ([`crate::GroundTruth`]): [`ContactSearch::step`] for pair
+    /// `key` alone, with the broad and narrow phases replaced by `find`, which is given the
+    /// model after the unit normals of ContactSub are computed (the normals the orientation
+    /// filter reads) and returns the (slave, master) pairs to put in the INDEX_MAPs; then
+    /// MappingCheck's CheckPairing runs as usual (mortar mapping, paired conditions, weighted
+    /// gap, activation). Requires a MappingCheck pair and no dynamic search.
+    pub(crate) fn step_with_pairs<F>(
+        &mut self,
+        model: &mut ModelPart,
+        key: u32,
+        find: F,
+    ) -> Result<SearchResult, Error>
+    where
+        F: FnOnce(&mut ModelPart, &TruthScene) -> Result<Vec<(ConditionIdx, ConditionIdx)>, Error>,
+    {
+        let Some(i) = self.pairs.iter().position(|p| p.key == key) else {
+            return Err(ErrorKind::InvalidValue {
+                key: "<pair key>".to_owned(),
+                expected: "a pair key of the setup".to_owned(),
+                found: key.to_string(),
+            }
+            .into());
+        };
+        self.steps_run += 1;
+        self.reset_marker(model);
+        let run = RunMode {
+            compatibility: self.setup.compatibility,
+            frictional: self.setup.contact_type.is_frictional(),
+            python_path: !self.setup.cpp_search_parameters,
+        };
+        let pair = &mut self.pairs[i];
+        let Some(pair_plan) = self.plan.pairs.get(&key) else {
+            return Err(ErrorKind::Model(format!("pair {key}: no plan")).into());
+        };
+        clear_mortar_conditions(model, pair, run.compatibility)?;
+        pair.pruned.clear();
+        let p = pair.params.clone();
+        let normals_mode = match run.compatibility {
+            Compatibility::Kratos => NormalsMode::Kratos,
+            Compatibility::Robust => NormalsMode::Once,
+        };
+        compute_unit_normals(model, Some(pair.sub), normals_mode).map_err(model_error)?;
+        let max_paired = pair.paired.iter().map(|pc| pc.id.get()).max().unwrap_or(0);
+        let condition_id = model.conditions().max_id().max(max_paired);
+        let distance_threshold = if p.simple_search {
+            model
+                .process_info()
+                .number("DISTANCE_THRESHOLD")
+                .unwrap_or(1e24)
+        } else {
+            csm_activation::mean_h(model, pair.sub, p.inverted_search)
+        };
+        let scene = TruthScene {
+            sub: pair.sub,
+            inverted: p.inverted_search,
+            master_check: !p.inverted_search || !p.predefined_master_slave,
+            dim: usize::from(pair.instance.dim),
+            distance_threshold,
+            normal_orientation_threshold: p.normal_orientation_threshold,
+        };
+        let mut found = find(model, &scene)?;
+        let ids = model.conditions().ids();
+        found.sort_by_key(|(s, m)| (ids[s.index()], ids[m.index()]));
+        for (s, m) in found {
+            let master_id = ConditionId(model.conditions().ids()[m.index()]);
+            model.index_map_mut(s).add_id(master_id);
+        }
+        check_pairing(model, pair, &p, pair_plan, run, None, condition_id)?;
+        self.reset_marker(model);
+        Ok(self.result(model))
+    }
+
     /// The search instance (Kratos template class) chosen for pair `key`.
     pub fn instance(&self, key: u32) -> Option<SearchInstance> {
         self.pairs.iter().find(|p| p.key == key).map(|p| p.instance)
@@ -306,6 +458,9 @@ impl ContactSearch {
         }
         let contact = self.parts.contact;
         self.steps_run += 1;
+        for pair in &mut self.pairs {
+            pair.pruned.clear();
+        }
         if searched {
             self.reset_marker(model);
             for i in 0..self.pairs.len() {
@@ -432,6 +587,14 @@ impl ContactSearch {
                     },
                 );
             }
+            let mut pruned: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+            for &(s, m) in &pair.pruned {
+                pruned.entry(s).or_default().push(m);
+            }
+            for masters in pruned.values_mut() {
+                masters.sort_unstable();
+            }
+            result.pruned.insert(pair.key.to_string(), pruned);
             result.pairs.insert(pair.key.to_string(), slaves);
             result.paired_conditions += pair.paired.len();
         }
@@ -607,6 +770,7 @@ fn update_mortar_conditions(
     // 1. Dynamic search: the half-jump increments; MappingCheck moves the nodes (§11). Left
     // out when every increment would be zero (the plan, decided again on this step's data).
     let sub_nodes = model.part(sub).nodes().to_vec();
+    pair.pruned.clear();
     plan.step_jump = step_jump(&p, model, &sub_nodes);
     let delta = if plan.step_jump.is_used() {
         let dt = model.process_info().number("DELTA_TIME").unwrap_or(1.0);
@@ -751,6 +915,12 @@ fn check_pairing(
         dim,
     };
     let report = act::normal_gap_process(model, sub, &settings).map_err(activation_error)?;
+    let ids = model.conditions().ids();
+    pair.pruned = report
+        .removed
+        .iter()
+        .map(|r| (ids[r.slave.index()], r.master.get()))
+        .collect();
     // TO_ERASE: the paired conditions of removed entries (kept from an earlier step) go.
     if report.removed.iter().any(|r| r.paired.is_some()) {
         let erased: BTreeSet<u32> = report
@@ -832,6 +1002,26 @@ fn check_pairing(
         },
     );
     Ok(report.warnings)
+}
+
+/// What the ground truth's pair finder is told about the pair it searches
+/// ([`ContactSearch::step_with_pairs`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct TruthScene {
+    /// `Contact.ContactSub<key>`.
+    pub sub: PartIdx,
+    /// `inverted_search`: the slave side is the conditions with `SLAVE == false`.
+    pub inverted: bool,
+    /// The master side is the conditions whose MASTER flag equals this (as the kd-tree's point
+    /// list).
+    pub master_check: bool,
+    /// 2 or 3.
+    pub dim: usize,
+    /// The DISTANCE_THRESHOLD the mapping will use (Simple: the process info's, 1e24 by
+    /// default; Advanced: the larger mean NODAL_H of the two sides).
+    pub distance_threshold: Real,
+    /// `normal_orientation_threshold`.
+    pub normal_orientation_threshold: Real,
 }
 
 /// How a step runs, beside the pair's own parameters.

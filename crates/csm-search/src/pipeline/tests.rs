@@ -17,7 +17,7 @@ const H: f64 = 0.25;
 /// at height `gap` facing down (its prisms above), `Master` at height 0 facing up (its prisms
 /// below) — or facing down too with `master_down` (its prisms above). The slave grid is shifted
 /// by a third of a cell so the meshes do not match.
-fn plates(n: usize, gap: f64, master_down: bool) -> ModelPart {
+pub(crate) fn plates(n: usize, gap: f64, master_down: bool) -> ModelPart {
     let mut mp = ModelPart::new("Structure");
     let mut next_node = 1u32;
     let mut next_cond = 1u32;
@@ -97,7 +97,7 @@ fn plates(n: usize, gap: f64, master_down: bool) -> ModelPart {
     mp
 }
 
-fn setup(search_parameters: &str, extra: &str) -> crate::SearchSetup {
+pub(crate) fn setup(search_parameters: &str, extra: &str) -> crate::SearchSetup {
     let text = format!(
         r#"{{"contact_model_part": {{"0": ["Slave", "Master"]}},
             "assume_master_slave": {{"0": ["Slave"]}},

@@ -208,7 +208,12 @@ pub fn step_jump(
     })
 }
 
-fn pair_plan(model: &ModelPart, key: u32, pair: &PairSetup, nodes: &[NodeIdx]) -> PairPlan {
+pub(crate) fn pair_plan(
+    model: &ModelPart,
+    key: u32,
+    pair: &PairSetup,
+    nodes: &[NodeIdx],
+) -> PairPlan {
     let p = &pair.search;
     let t = p.type_search;
     let gap = p.check_gap;

@@ -1,0 +1,735 @@
+//! `csm report`: error against run time for every search strategy, measured against the
+//! exhaustive ground truth ([`csm_search::GroundTruth`]); written as a Markdown table and an
+//! SVG chart with the Pareto front (`docs/report.md` explains the metrics).
+
+use std::fmt::Write as _;
+use std::time::Instant;
+
+use csm_model::{Flag, ModelPart};
+use csm_search::{
+    Compatibility, ContactSearch, GroundTruth, Sample, Score, SearchSetup, SearchTreeType,
+};
+
+use crate::cli::logger;
+
+/// The sweep and the sampling of a report.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReportOptions {
+    /// The `type_search` values compared.
+    pub type_searches: Vec<SearchTreeType>,
+    /// The `search_factor` values (every strategy, both modes).
+    pub search_factors: Vec<f64>,
+    /// The `bounding_box_factor` values of the OBB and 18-DOP variants, swept in `robust` mode
+    /// at the setup's `search_factor` (Kratos' Python layer drops the key in `kratos` mode).
+    pub bounding_box_factors: Vec<f64>,
+    /// Above this many faces on either side the ground truth is computed for a sample.
+    pub sample_limit: usize,
+    /// The size and seed of that sample.
+    pub sample: Sample,
+}
+
+impl Default for ReportOptions {
+    /// Every `type_search`; `search_factor` 1, 2, 3.5 (the default); `bounding_box_factor`
+    /// 0.02, 0.1 (the default), 0.5; a sample of 2,000 slave faces (seed 1) above 20,000
+    /// faces per side.
+    fn default() -> ReportOptions {
+        ReportOptions {
+            type_searches: vec![
+                SearchTreeType::KdtreeInRadius,
+                SearchTreeType::KdtreeInBox,
+                SearchTreeType::KdtreeInRadiusWithObb,
+                SearchTreeType::KdtreeInBoxWithObb,
+                SearchTreeType::OctreeWithObb,
+                SearchTreeType::Kdop,
+            ],
+            search_factors: vec![1.0, 2.0, 3.5],
+            bounding_box_factors: vec![0.02, 0.1, 0.5],
+            sample_limit: 20_000,
+            sample: Sample {
+                size: 2_000,
+                seed: 1,
+            },
+        }
+    }
+}
+
+/// One strategy of the sweep.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Strategy {
+    /// `type_search`.
+    pub type_search: SearchTreeType,
+    /// `simple_search` (Simple activation) or Advanced.
+    pub simple_search: bool,
+    /// `search_factor`.
+    pub search_factor: f64,
+    /// `octree_search_parameters.bounding_box_factor` in force.
+    pub bounding_box_factor: f64,
+    /// `compatibility`.
+    pub compatibility: Compatibility,
+}
+
+impl Strategy {
+    fn uses_bounding_box_factor(&self) -> bool {
+        matches!(
+            self.type_search,
+            SearchTreeType::KdtreeInRadiusWithObb
+                | SearchTreeType::KdtreeInBoxWithObb
+                | SearchTreeType::OctreeWithObb
+                | SearchTreeType::Kdop
+        )
+    }
+
+    fn activation(&self) -> &'static str {
+        if self.simple_search {
+            "simple"
+        } else {
+            "advanced"
+        }
+    }
+}
+
+/// A strategy's measurements.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// The strategy.
+    pub strategy: Strategy,
+    /// Its result against the ground truth, or why it could not run.
+    pub score: Result<Score, String>,
+    /// Wall time of its search step (`timings_s.search`), seconds.
+    pub search_s: f64,
+    /// On the Pareto front of missed pairs against search time.
+    pub pareto: bool,
+}
+
+/// The ground truth of one activation rule.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TruthSummary {
+    /// The ground truth.
+    pub truth: GroundTruth,
+    /// Wall time to compute it, seconds.
+    pub seconds: f64,
+}
+
+/// A report: the scene, the ground truths and one row per strategy.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Report {
+    /// What was measured (the mesh file name, or "demo scene").
+    pub scene: String,
+    /// The pair key reported (the setup's first).
+    pub key: u32,
+    /// Slave-side and master-side faces of the pair.
+    pub n_slaves: usize,
+    /// Master-side faces of the pair.
+    pub n_masters: usize,
+    /// The sample used, if the scene was above the limit.
+    pub sample: Option<Sample>,
+    /// The ground truth for Simple (`simple_search: true`) and Advanced.
+    pub truths: Vec<TruthSummary>,
+    /// The strategies, in sweep order.
+    pub rows: Vec<Row>,
+}
+
+/// The strategies of `options` for a setup whose `search_factor` and `bounding_box_factor`
+/// (as parsed in `kratos` mode) are `sf0` and `bbf0`.
+pub fn strategies(options: &ReportOptions, sf0: f64, bbf0: f64) -> Vec<Strategy> {
+    let mut out = Vec::new();
+    for compatibility in [Compatibility::Kratos, Compatibility::Robust] {
+        for simple_search in [true, false] {
+            for &type_search in &options.type_searches {
+                for &search_factor in &options.search_factors {
+                    let base = Strategy {
+                        type_search,
+                        simple_search,
+                        search_factor,
+                        bounding_box_factor: bbf0,
+                        compatibility,
+                    };
+                    let sweep = compatibility == Compatibility::Robust
+                        && base.uses_bounding_box_factor()
+                        && search_factor == sf0;
+                    if sweep {
+                        for &b in &options.bounding_box_factors {
+                            out.push(Strategy {
+                                bounding_box_factor: b,
+                                ..base
+                            });
+                        }
+                    } else {
+                        out.push(base);
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+fn side_counts(model: &ModelPart, key: u32) -> (usize, usize) {
+    let Some(sub) = model.find_part(&format!("Contact.ContactSub{key}")) else {
+        return (0, 0);
+    };
+    let flags = model.conditions().flags();
+    let conditions = model.part(sub).conditions();
+    let slaves = conditions
+        .iter()
+        .filter(|c| flags[c.index()].is(Flag::SLAVE))
+        .count();
+    let masters = conditions
+        .iter()
+        .filter(|c| flags[c.index()].is(Flag::MASTER))
+        .count();
+    (slaves, masters)
+}
+
+/// Runs the report of `setup`'s first pair key on `model` (as read): the ground truth for
+/// Simple and Advanced activation, then every strategy of `options` — each initialized once
+/// per mode and activation rule, then one timed search step per strategy.
+///
+/// Errors: a setup without pairs, a scene the ground truth cannot handle (quadratic faces,
+/// a setup `initialize` refuses). A strategy that fails is reported in its row.
+pub fn run_report(
+    model: &ModelPart,
+    setup: &SearchSetup,
+    scene: &str,
+    options: &ReportOptions,
+) -> Result<Report, String> {
+    let Some((&key, pair)) = setup.pairs.iter().next() else {
+        return Err("the setup has no contact pair".to_owned());
+    };
+    let (sf0, bbf0) = (
+        pair.search.search_factor,
+        pair.search.octree.bounding_box_factor,
+    );
+    // The sides' sizes, from an initialized copy.
+    let (n_slaves, n_masters) = {
+        let mut m = model.clone();
+        ContactSearch::initialize(&mut m, setup).map_err(|e| e.to_string())?;
+        side_counts(&m, key)
+    };
+    let sample = (n_slaves.max(n_masters) > options.sample_limit).then_some(options.sample);
+    let mut truths = Vec::new();
+    for simple in [true, false] {
+        let mut s = setup.clone();
+        if let Some(p) = s.pairs.get_mut(&key) {
+            p.search.simple_search = simple;
+        }
+        let start = Instant::now();
+        let truth = GroundTruth::compute(model, &s, key, sample).map_err(|e| e.to_string())?;
+        let seconds = start.elapsed().as_secs_f64();
+        logger::info(format_args!(
+            "ground truth ({}): {} true pairs over {} slave faces, {} segmentations, {seconds:.3} s",
+            if simple { "simple" } else { "advanced" },
+            truth.n_pairs(),
+            truth.pairs.len(),
+            truth.overlap_tests
+        ));
+        truths.push(TruthSummary { truth, seconds });
+    }
+    let all = strategies(options, sf0, bbf0);
+    let mut rows = Vec::with_capacity(all.len());
+    for compatibility in [Compatibility::Kratos, Compatibility::Robust] {
+        for (t, simple) in [true, false].into_iter().enumerate() {
+            let mut s = setup.clone();
+            s.compatibility = compatibility;
+            if let Some(p) = s.pairs.get_mut(&key) {
+                p.search.simple_search = simple;
+            }
+            let mut base_model = model.clone();
+            let base = ContactSearch::initialize(&mut base_model, &s);
+            for strategy in all
+                .iter()
+                .filter(|x| x.compatibility == compatibility && x.simple_search == simple)
+            {
+                let row = match &base {
+                    Ok(base) => run_strategy(&base_model, base, &s, key, strategy, &truths[t]),
+                    Err(e) => Row {
+                        strategy: *strategy,
+                        score: Err(e.to_string()),
+                        search_s: 0.0,
+                        pareto: false,
+                    },
+                };
+                rows.push(row);
+            }
+        }
+    }
+    mark_pareto(&mut rows);
+    Ok(Report {
+        scene: scene.to_owned(),
+        key,
+        n_slaves,
+        n_masters,
+        sample,
+        truths,
+        rows,
+    })
+}
+
+fn run_strategy(
+    base_model: &ModelPart,
+    base: &ContactSearch,
+    setup: &SearchSetup,
+    key: u32,
+    strategy: &Strategy,
+    truth: &TruthSummary,
+) -> Row {
+    let mut row = Row {
+        strategy: *strategy,
+        score: Err(String::new()),
+        search_s: 0.0,
+        pareto: false,
+    };
+    let mut params = setup.pairs[&key].search.clone();
+    params.type_search = strategy.type_search;
+    params.search_factor = strategy.search_factor;
+    params.octree.bounding_box_factor = strategy.bounding_box_factor;
+    let mut model = base_model.clone();
+    let mut search = base.clone();
+    if let Err(e) = search.set_search_parameters(&model, key, &params) {
+        row.score = Err(e.to_string());
+        return row;
+    }
+    let start = Instant::now();
+    let result = search.step(&mut model);
+    row.search_s = start.elapsed().as_secs_f64();
+    row.score = result
+        .map(|r| truth.truth.score(&r))
+        .map_err(|e| e.to_string());
+    logger::debug(format_args!(
+        "{} {} {} sf {} bbf {}: {:.3} s",
+        strategy.type_search.name(),
+        strategy.activation(),
+        strategy.compatibility.name(),
+        strategy.search_factor,
+        strategy.bounding_box_factor,
+        row.search_s
+    ));
+    row
+}
+
+/// Marks the rows no other row beats in both search time and missed pairs (ties in time: the
+/// lower error; rows that failed are never on the front).
+fn mark_pareto(rows: &mut [Row]) {
+    let mut order: Vec<usize> = (0..rows.len()).filter(|&i| rows[i].score.is_ok()).collect();
+    let missed = |r: &Row| {
+        r.score
+            .as_ref()
+            .map_or(f64::INFINITY, Score::missed_percent)
+    };
+    order.sort_by(|&a, &b| {
+        rows[a]
+            .search_s
+            .total_cmp(&rows[b].search_s)
+            .then(missed(&rows[a]).total_cmp(&missed(&rows[b])))
+    });
+    let mut best = f64::INFINITY;
+    for i in order {
+        let m = missed(&rows[i]);
+        if m < best {
+            rows[i].pareto = true;
+            best = m;
+        }
+    }
+}
+
+fn fmt_gap(e: Option<f64>) -> String {
+    e.map_or_else(|| "—".to_owned(), |e| format!("{e:.2e}"))
+}
+
+impl Report {
+    /// The rows on the Pareto front, in time order.
+    pub fn front(&self) -> Vec<&Row> {
+        let mut v: Vec<&Row> = self.rows.iter().filter(|r| r.pareto).collect();
+        v.sort_by(|a, b| a.search_s.total_cmp(&b.search_s));
+        v
+    }
+
+    /// The report as Markdown: the scene, the ground truths, the notes, then one table row
+    /// per strategy (search times in milliseconds; `*` marks the Pareto front).
+    pub fn to_markdown(&self) -> String {
+        let mut s = String::new();
+        // Writing to a String cannot fail.
+        let _ = writeln!(s, "# csm report: {}\n", self.scene);
+        let _ = writeln!(
+            s,
+            "Pair key {}: {} slave faces, {} master faces. Metrics: `docs/report.md`.\n",
+            self.key, self.n_slaves, self.n_masters
+        );
+        match self.sample {
+            Some(sample) => {
+                let _ = writeln!(
+                    s,
+                    "**Sampled:** more than the limit of faces per side, so the ground truth is \
+                     computed for a seeded random sample of {} slave faces (seed {}) against \
+                     all masters; every count below is over the sample and its nodes.\n",
+                    sample.size, sample.seed
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    s,
+                    "The ground truth is exhaustive (every slave face against every master).\n"
+                );
+            }
+        }
+        for t in &self.truths {
+            let truth = &t.truth;
+            let active = truth.nodes.values().filter(|n| n.active).count();
+            let _ = writeln!(
+                s,
+                "- Ground truth, {} activation (DISTANCE_THRESHOLD {:.3e}): {} true pairs over \
+                 {} slave faces, {} active of {} nodes; {} segmentations after the prefilter.",
+                if truth.simple_search {
+                    "Simple"
+                } else {
+                    "Advanced"
+                },
+                truth.distance_threshold,
+                truth.n_pairs(),
+                truth.pairs.len(),
+                active,
+                truth.nodes.len(),
+                truth.overlap_tests
+            );
+        }
+        let _ = writeln!(
+            s,
+            "- `bounding_box_factor` is swept in `robust` mode only: in `kratos` mode Kratos' \
+             Python layer drops `octree_search_parameters`, so the default is in force (set \
+             it through `cpp_search_parameters` to reach Kratos' C++ process).\n"
+        );
+        let _ = writeln!(
+            s,
+            "| type_search | activation | mode | search_factor | bbf | missed | missed % | \
+             spurious cand. | extra pairs | wrong ACTIVE | max gap error | unmapped | search ms \
+             | Pareto |"
+        );
+        let _ = writeln!(
+            s,
+            "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|:-:|"
+        );
+        for r in &self.rows {
+            let st = &r.strategy;
+            let bbf = if st.uses_bounding_box_factor() {
+                format!("{}", st.bounding_box_factor)
+            } else {
+                "—".to_owned()
+            };
+            let head = format!(
+                "| {} | {} | {} | {} | {} ",
+                st.type_search.name(),
+                st.activation(),
+                st.compatibility.name(),
+                st.search_factor,
+                bbf
+            );
+            match &r.score {
+                Ok(sc) => {
+                    let _ = writeln!(
+                        s,
+                        "{head}| {} | {:.2} | {} | {} | {} | {} | {} | {:.1} | {} |",
+                        sc.missed,
+                        sc.missed_percent(),
+                        sc.spurious_candidates,
+                        sc.extra_pairs,
+                        sc.wrong_active,
+                        fmt_gap(sc.max_gap_error),
+                        sc.unmapped,
+                        r.search_s * 1e3,
+                        if r.pareto { "*" } else { "" }
+                    );
+                }
+                Err(e) => {
+                    let e = e.replace('|', "/");
+                    let _ = writeln!(s, "{head}| failed: {e} | | | | | | | | |");
+                }
+            }
+        }
+        s
+    }
+
+    /// A short summary: the truths, the default-like strategies and the Pareto front.
+    pub fn summary(&self) -> String {
+        let mut s = String::new();
+        let front: Vec<String> = self
+            .front()
+            .iter()
+            .map(|r| {
+                let st = &r.strategy;
+                format!(
+                    "{} {} {} sf {}{} ({:.2}% missed, {:.1} ms)",
+                    st.type_search.name(),
+                    st.activation(),
+                    st.compatibility.name(),
+                    st.search_factor,
+                    if st.uses_bounding_box_factor() {
+                        format!(" bbf {}", st.bounding_box_factor)
+                    } else {
+                        String::new()
+                    },
+                    r.score.as_ref().map_or(0.0, Score::missed_percent),
+                    r.search_s * 1e3
+                )
+            })
+            .collect();
+        let failed = self.rows.iter().filter(|r| r.score.is_err()).count();
+        let _ = writeln!(
+            s,
+            "{} strategies ({} failed); Pareto front (missed pairs vs search time): {}",
+            self.rows.len(),
+            failed,
+            front.join("; ")
+        );
+        s
+    }
+
+    /// The SVG chart: search time (log scale) on x, missed true pairs (%) on y, one marker per
+    /// strategy (colour: `type_search`; filled: `robust`, hollow: `kratos`; square: Advanced
+    /// activation, circle: Simple), the Pareto front as a polyline, and a legend. Coordinates
+    /// have one decimal, so equal reports give equal files.
+    pub fn to_svg(&self) -> String {
+        const W: f64 = 760.0;
+        const H: f64 = 460.0;
+        const LEFT: f64 = 70.0;
+        const RIGHT: f64 = 200.0;
+        const TOP: f64 = 40.0;
+        const BOTTOM: f64 = 60.0;
+        let ok: Vec<(&Row, f64)> = self
+            .rows
+            .iter()
+            .filter_map(|r| r.score.as_ref().ok().map(|s| (r, s.missed_percent())))
+            .collect();
+        let ms = |r: &Row| (r.search_s * 1e3).max(1e-3);
+        let (mut lo, mut hi) = ok.iter().fold((f64::INFINITY, 0.0_f64), |(l, h), (r, _)| {
+            (l.min(ms(r)), h.max(ms(r)))
+        });
+        if !lo.is_finite() {
+            (lo, hi) = (1.0, 10.0);
+        }
+        let (x0, mut x1) = (lo.log10().floor(), hi.log10().ceil());
+        if x1 <= x0 {
+            x1 = x0 + 1.0;
+        }
+        let ymax_data = ok.iter().map(|(_, m)| *m).fold(0.0, f64::max);
+        let ymax = nice_ceiling(ymax_data);
+        let px = |t: f64| LEFT + (t.log10() - x0) / (x1 - x0) * (W - LEFT - RIGHT);
+        let py = |m: f64| H - BOTTOM - m / ymax * (H - TOP - BOTTOM);
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" viewBox="0 0 {W} {H}" font-family="sans-serif" font-size="12">"#
+        );
+        let _ = writeln!(s, r#"<rect width="{W}" height="{H}" fill="white"/>"#);
+        let _ = writeln!(
+            s,
+            r#"<text x="{:.1}" y="22" text-anchor="middle" font-size="14">{}: missed true pairs vs search time</text>"#,
+            (LEFT + W - RIGHT) / 2.0,
+            xml_escape(&self.scene)
+        );
+        // Axes and ticks.
+        let (bx, by) = (H - BOTTOM, W - RIGHT);
+        let _ = writeln!(
+            s,
+            r#"<path d="M{LEFT:.1} {TOP:.1} V{bx:.1} H{by:.1}" fill="none" stroke="black"/>"#
+        );
+        let mut e = x0;
+        while e <= x1 + 1e-9 {
+            let x = px(10f64.powf(e));
+            let _ = writeln!(
+                s,
+                r#"<line x1="{x:.1}" y1="{bx:.1}" x2="{x:.1}" y2="{:.1}" stroke="black"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
+                bx + 5.0,
+                bx + 18.0,
+                fmt_ms(10f64.powf(e))
+            );
+            e += 1.0;
+        }
+        for k in 0..=4 {
+            let m = ymax * f64::from(k) / 4.0;
+            let y = py(m);
+            let _ = writeln!(
+                s,
+                r#"<line x1="{:.1}" y1="{y:.1}" x2="{LEFT:.1}" y2="{y:.1}" stroke="black"/><text x="{:.1}" y="{:.1}" text-anchor="end">{}</text>"#,
+                LEFT - 5.0,
+                LEFT - 8.0,
+                y + 4.0,
+                trim_float(m)
+            );
+        }
+        let _ = writeln!(
+            s,
+            r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">search step time (ms, log scale)</text>"#,
+            (LEFT + W - RIGHT) / 2.0,
+            H - 15.0
+        );
+        let _ = writeln!(
+            s,
+            r#"<text x="18" y="{:.1}" text-anchor="middle" transform="rotate(-90 18 {:.1})">missed true pairs (%)</text>"#,
+            (TOP + H - BOTTOM) / 2.0,
+            (TOP + H - BOTTOM) / 2.0
+        );
+        // The Pareto front.
+        let front: Vec<String> = self
+            .front()
+            .iter()
+            .map(|r| {
+                let m = r.score.as_ref().map_or(0.0, Score::missed_percent);
+                format!("{:.1},{:.1}", px(ms(r)), py(m))
+            })
+            .collect();
+        if !front.is_empty() {
+            let _ = writeln!(
+                s,
+                r#"<polyline points="{}" fill="none" stroke="black" stroke-dasharray="4 3"/>"#,
+                front.join(" ")
+            );
+        }
+        // The markers.
+        for (r, m) in &ok {
+            let colour = colour_of(r.strategy.type_search);
+            let fill = if r.strategy.compatibility == Compatibility::Robust {
+                colour
+            } else {
+                "none"
+            };
+            let (x, y) = (px(ms(r)), py(*m));
+            let title = format!(
+                "{} {} {} sf {} bbf {}",
+                r.strategy.type_search.name(),
+                r.strategy.activation(),
+                r.strategy.compatibility.name(),
+                r.strategy.search_factor,
+                r.strategy.bounding_box_factor
+            );
+            if r.strategy.simple_search {
+                let _ = writeln!(
+                    s,
+                    r#"<circle cx="{x:.1}" cy="{y:.1}" r="4.5" fill="{fill}" stroke="{colour}" stroke-width="1.5"><title>{title}</title></circle>"#
+                );
+            } else {
+                let _ = writeln!(
+                    s,
+                    r#"<rect x="{:.1}" y="{:.1}" width="8" height="8" fill="{fill}" stroke="{colour}" stroke-width="1.5"><title>{title}</title></rect>"#,
+                    x - 4.0,
+                    y - 4.0
+                );
+            }
+        }
+        // The legend.
+        let lx = W - RIGHT + 20.0;
+        let mut ly = TOP + 5.0;
+        let mut types: Vec<SearchTreeType> = Vec::new();
+        for r in &self.rows {
+            if !types.contains(&r.strategy.type_search) {
+                types.push(r.strategy.type_search);
+            }
+        }
+        for t in types {
+            let _ = writeln!(
+                s,
+                r#"<circle cx="{lx:.1}" cy="{ly:.1}" r="4.5" fill="{c}" stroke="{c}"/><text x="{:.1}" y="{:.1}">{}</text>"#,
+                lx + 12.0,
+                ly + 4.0,
+                t.name(),
+                c = colour_of(t)
+            );
+            ly += 18.0;
+        }
+        ly += 8.0;
+        for (shape, label) in [
+            (
+                format!(r#"<circle cx="{lx:.1}" cy="{ly:.1}" r="4.5" fill="gray" stroke="gray"/>"#),
+                "robust (filled)",
+            ),
+            (
+                format!(
+                    r#"<circle cx="{lx:.1}" cy="{:.1}" r="4.5" fill="none" stroke="gray" stroke-width="1.5"/>"#,
+                    ly + 18.0
+                ),
+                "kratos (hollow)",
+            ),
+            (
+                format!(
+                    r#"<circle cx="{lx:.1}" cy="{:.1}" r="4.5" fill="none" stroke="black"/>"#,
+                    ly + 36.0
+                ),
+                "Simple activation",
+            ),
+            (
+                format!(
+                    r#"<rect x="{:.1}" y="{:.1}" width="8" height="8" fill="none" stroke="black"/>"#,
+                    lx - 4.0,
+                    ly + 50.0
+                ),
+                "Advanced activation",
+            ),
+        ] {
+            let _ = writeln!(
+                s,
+                r#"{shape}<text x="{:.1}" y="{:.1}">{label}</text>"#,
+                lx + 12.0,
+                ly + 4.0
+            );
+            ly += 18.0;
+        }
+        let _ = writeln!(
+            s,
+            r#"<line x1="{:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="black" stroke-dasharray="4 3"/><text x="{:.1}" y="{:.1}">Pareto front</text>"#,
+            lx - 6.0,
+            lx + 6.0,
+            lx + 12.0,
+            ly + 4.0
+        );
+        s.push_str("</svg>\n");
+        s
+    }
+}
+
+fn colour_of(t: SearchTreeType) -> &'static str {
+    match t {
+        SearchTreeType::KdtreeInRadius => "#1f77b4",
+        SearchTreeType::KdtreeInBox => "#ff7f0e",
+        SearchTreeType::KdtreeInRadiusWithObb => "#2ca02c",
+        SearchTreeType::KdtreeInBoxWithObb => "#d62728",
+        SearchTreeType::OctreeWithObb => "#9467bd",
+        SearchTreeType::Kdop => "#8c564b",
+    }
+}
+
+/// 1, 2, 5 × 10^k at or above `v` (1 for 0).
+fn nice_ceiling(v: f64) -> f64 {
+    if v <= 0.0 || !v.is_finite() {
+        return 1.0;
+    }
+    let e = v.log10().floor();
+    let base = 10f64.powf(e);
+    for m in [1.0, 2.0, 5.0, 10.0] {
+        if m * base >= v * (1.0 - 1e-12) {
+            return m * base;
+        }
+    }
+    10.0 * base
+}
+
+fn fmt_ms(v: f64) -> String {
+    if v >= 1.0 {
+        format!("{v:.0}")
+    } else {
+        trim_float(v)
+    }
+}
+
+fn trim_float(v: f64) -> String {
+    let s = format!("{v:.3}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    s.to_owned()
+}
+
+fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+#[cfg(test)]
+mod tests;
