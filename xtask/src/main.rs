@@ -12,6 +12,9 @@
 //!   (`kratos_fixtures_steps.py`: multi-step runs and the dynamic-search test). The
 //!   virtual environment is made in `target/kratos-venv` on first use (or set `KRATOS_PYTHON`
 //!   to a Python that has Kratos). CI never runs this: the fixtures are committed data.
+//! - `cargo xtask stability`: runs the full stability suite (`tests/it/stability/`, release
+//!   build) and rewrites `docs/stability.md`; plain `cargo test` checks the CI-size cases
+//!   against the committed file.
 //! - `cargo xtask snapshots`: the snapshot tests alone, as CI runs them; review changes
 //!   locally with `cargo insta review` (`cargo install cargo-insta` once).
 //!
@@ -32,8 +35,9 @@ fn main() -> Result<()> {
         Some("snapshots") => snapshots(),
         Some("features") => features(),
         Some("fixtures") => fixtures(),
+        Some("stability") => stability(),
         _ => {
-            eprintln!("usage: cargo xtask <ci|snapshots|features|fixtures>");
+            eprintln!("usage: cargo xtask <ci|snapshots|features|fixtures|stability>");
             bail!("unknown or missing command")
         }
     }
@@ -117,6 +121,22 @@ fn features() -> Result<()> {
     cargo(
         &["test", "-p", "csm-io", "--no-default-features", "--lib"],
         &TEST_ENV,
+    )
+}
+
+/// The full stability suite, writing `docs/stability.md`.
+fn stability() -> Result<()> {
+    cargo(
+        &[
+            "test",
+            "--release",
+            "--test",
+            "integration",
+            "--",
+            "--exact",
+            "stability::stability_report_is_current",
+        ],
+        &[("CSM_STABILITY_WRITE", "1")],
     )
 }
 

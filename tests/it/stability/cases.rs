@@ -228,11 +228,10 @@ pub fn all() -> Vec<Case> {
     ));
     // Nearly parallel: the slave tilted by 1e-12 rad about y, the master by 1e-12 about x.
     let tilt = |axis: Vector, angle: Real| {
-        let r = csm::geometry::math::Matrix3::identity()
-            + {
-                let k = axis;
-                csm::geometry::math::Matrix3::new(0.0, -k.z, k.y, k.z, 0.0, -k.x, -k.y, k.x, 0.0)
-            } * angle;
+        let r = csm::geometry::math::Matrix3::identity() + {
+            let k = axis;
+            csm::geometry::math::Matrix3::new(0.0, -k.z, k.y, k.z, 0.0, -k.x, -k.y, k.x, 0.0)
+        } * angle;
         move |p: Point| Point::from(r * p.coords)
     };
     let s = linspace(1.0 / 3.0, 4.0 + 1.0 / 3.0, 4);

@@ -14,7 +14,12 @@ fn transform() -> impl Strategy<Value = Transform> {
         (-6.0..6.0f64).prop_map(|e| Transform::Scale(10f64.powf(e))),
         (-1e6..1e6f64, -1e6..1e6f64, -1e6..1e6f64)
             .prop_map(|(x, y, z)| Transform::Translate(Vector::new(x, y, z))),
-        (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64, -3.14..3.14f64)
+        (
+            -1.0..1.0f64,
+            -1.0..1.0f64,
+            -1.0..1.0f64,
+            -std::f64::consts::PI..std::f64::consts::PI
+        )
             .prop_filter("an axis", |(x, y, z, _)| x * x + y * y + z * z > 1e-2)
             .prop_map(|(x, y, z, a)| Transform::Rotate(Vector::new(x, y, z), a)),
     ]

@@ -22,7 +22,9 @@ use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use cases::{Case, Oracle};
-use run::{Pair, Run, Transform, differences, overlapping_pairs, report_transforms, run as run_case};
+use run::{
+    Pair, Run, Transform, differences, overlapping_pairs, report_transforms, run as run_case,
+};
 
 const MODES: [&str; 2] = ["kratos", "robust"];
 
@@ -82,8 +84,16 @@ fn invariance_cell(
 /// transform label). They are reported as `OPEN` in `docs/stability.md` and tolerated by
 /// `robust_mode_is_stable`; anything else fails it.
 const OPEN: &[(&str, &str, &str)] = &[
-    ("plane_cylinder_cpp", "mapping_check", "rotate 0.7 rad about (1, 2, 3)"),
-    ("cylinder_on_plate", "direct_check", "rotate 0.7 rad about (1, 2, 3)"),
+    (
+        "plane_cylinder_cpp",
+        "mapping_check",
+        "rotate 0.7 rad about (1, 2, 3)",
+    ),
+    (
+        "cylinder_on_plate",
+        "direct_check",
+        "rotate 0.7 rad about (1, 2, 3)",
+    ),
 ];
 
 fn evaluate(case: &Case) -> Vec<Row> {
@@ -102,6 +112,7 @@ fn evaluate(case: &Case) -> Vec<Row> {
         };
         let base: Vec<Result<Run, String>> =
             MODES.iter().map(|m| runs(m, Transform::Identity)).collect();
+        let truth = ground_truth(case);
         let oracle: Option<BTreeSet<Pair>> = match case.oracle {
             Oracle::Overlap => model0.as_ref().map(overlapping_pairs),
             Oracle::RobustBaseline => base[1].as_ref().ok().map(|r| r.pairs.clone()),
@@ -138,14 +149,46 @@ fn evaluate(case: &Case) -> Vec<Row> {
                 (_, Err(e)) => failures.push(format!("error: {e}")),
                 _ => {}
             }
+            let vs_truth = match (&truth, b) {
+                (Ok(t), Ok(r)) => {
+                    let truth_pairs: BTreeSet<Pair> = t
+                        .pairs
+                        .iter()
+                        .flat_map(|(s, ms)| ms.iter().map(move |m| (*s, *m)))
+                        .collect();
+                    let (missed, extra) = match &model0 {
+                        Some(m) => differences(m, &truth_pairs, &r.pairs),
+                        None => (Vec::new(), Vec::new()),
+                    };
+                    let mut cell = if missed.is_empty() && extra.is_empty() {
+                        "=".to_owned()
+                    } else {
+                        format!("missed {}, extra {}", missed.len(), extra.len())
+                    };
+                    if *check == "mapping_check" {
+                        let err = r
+                            .node_gaps
+                            .iter()
+                            .filter_map(|(id, g)| {
+                                let tg = t.nodes.get(id)?.normal_gap?;
+                                Some((g - tg).abs())
+                            })
+                            .fold(0.0_f64, f64::max);
+                        let _ = write!(cell, "; gap err {err:.1e}");
+                    }
+                    cell
+                }
+                (Err(e), _) => format!("truth: {}", escape(e)),
+                (Ok(_), Err(_)) => "—".into(),
+            };
             let mut cells = Vec::new();
             for &t in &transforms {
                 let r = runs(mode, t);
                 non_finite += r.as_ref().map_or(0, |r| r.non_finite);
-                if let Err(e) = &r {
-                    if e.starts_with("panic") {
-                        failures.push(format!("{}: {e}", t.label()));
-                    }
+                if let Err(e) = &r
+                    && e.starts_with("panic")
+                {
+                    failures.push(format!("{}: {e}", t.label()));
                 }
                 let (mut cell, ok) = invariance_cell(b, &r, model0.as_ref());
                 let open = OPEN.contains(&(case.name, *check, t.label().as_str()));
@@ -163,7 +206,10 @@ fn evaluate(case: &Case) -> Vec<Row> {
                 failures.push(format!("{non_finite} non-finite values"));
             }
             let gap = match b {
-                Ok(Run { gap: Some((lo, hi)), .. }) => {
+                Ok(Run {
+                    gap: Some((lo, hi)),
+                    ..
+                }) => {
                     let mut s = format!("{} … {}", fmt_gap(*lo), fmt_gap(*hi));
                     if let Some(g) = case.analytic_gap {
                         let err = (lo - g).abs().max((hi - g).abs());
@@ -181,10 +227,10 @@ fn evaluate(case: &Case) -> Vec<Row> {
                     if let Some((lo, hi)) = r.lm {
                         notes.push(format!("LM {lo:.3e} … {hi:.3e}"));
                     }
-                    if let Some(k) = r.lm_mismatch {
-                        if r.lm.is_some() {
-                            notes.push(format!("LM ≠ ε·A·g on {k} nodes"));
-                        }
+                    if let Some(k) = r.lm_mismatch
+                        && r.lm.is_some()
+                    {
+                        notes.push(format!("LM ≠ ε·A·g on {k} nodes"));
                     }
                     if !r.warnings.is_empty() {
                         notes.push(format!("{} warnings", r.warnings.len()));
@@ -200,7 +246,7 @@ fn evaluate(case: &Case) -> Vec<Row> {
                 format!("FAIL: {}", escape(&failures.join("; ")))
             };
             let line = format!(
-                "| {} | {mode} | {check} | {pairs} | {vs_oracle} | pending | {} | {non_finite} | {gap} | {verdict} | {} |",
+                "| {} | {mode} | {check} | {pairs} | {vs_oracle} | {vs_truth} | {} | {non_finite} | {gap} | {verdict} | {} |",
                 case.name,
                 cells.join(" | "),
                 notes.join("; ")
@@ -219,6 +265,18 @@ fn evaluate(case: &Case) -> Vec<Row> {
         }
     }
     rows
+}
+
+/// The ground truth (`csm_search::GroundTruth`: exhaustive exact pairs and gaps, robust
+/// MappingCheck) of the untransformed case.
+fn ground_truth(case: &Case) -> Result<csm::search::GroundTruth, String> {
+    let mut model = csm::io::read_mdpa(&case.mdpa, case.name).map_err(|e| e.to_string())?;
+    if let Some(edit) = case.edit {
+        edit(&mut model);
+    }
+    let setup = run::setup_for(&case.setup, "robust", "mapping_check", Transform::Identity);
+    let setup = csm::cli::load_setup(&setup.to_string(), "SETUP.json")?;
+    csm::search::GroundTruth::compute(&model, &setup, 0, None).map_err(|e| e.to_string())
 }
 
 fn evaluated(full: bool) -> &'static [(Case, Vec<Row>)] {

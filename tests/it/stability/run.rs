@@ -107,6 +107,8 @@ pub struct Run {
     pub lm_mismatch: Option<usize>,
     /// Active slave nodes.
     pub active: usize,
+    /// The mapped NORMAL_GAP per node (the 1e12 sentinel left out).
+    pub node_gaps: BTreeMap<u32, Real>,
     /// The search's warnings.
     pub warnings: Vec<String>,
 }
@@ -160,7 +162,8 @@ pub fn run(
             edit(&mut model);
         }
         let setup = csm::cli::load_setup(&setup.to_string(), "SETUP.json")?;
-        let mut search = ContactSearch::initialize(&mut model, &setup).map_err(|e| e.to_string())?;
+        let mut search =
+            ContactSearch::initialize(&mut model, &setup).map_err(|e| e.to_string())?;
         let result = search.step(&mut model).map_err(|e| e.to_string())?;
         let pairs = result
             .pairs
@@ -213,7 +216,7 @@ pub fn run(
                         .filter(|&i| lm[i] != 0.0)
                         .filter(|&i| {
                             let want = eps * area.map_or(1.0, |a| a[i]) * g[i];
-                            !((lm[i] - want).abs() <= 1e-9 * want.abs())
+                            (lm[i] - want).abs() > 1e-9 * want.abs() || lm[i].is_nan()
                         })
                         .count(),
                 )
@@ -221,6 +224,11 @@ pub fn run(
             _ => None,
         };
         let active = result.nodes.values().filter(|n| n.active).count();
+        let node_gaps = result
+            .nodes
+            .iter()
+            .filter_map(|(id, n)| n.normal_gap.filter(|g| g.abs() < 1e11).map(|g| (*id, g)))
+            .collect();
         let run = Run {
             pairs,
             non_finite,
@@ -228,6 +236,7 @@ pub fn run(
             lm: range(&lms),
             lm_mismatch,
             active,
+            node_gaps,
             warnings: result.warnings.clone(),
         };
         Ok((run, model))
@@ -314,22 +323,13 @@ pub fn overlapping_pairs(model: &ModelPart) -> BTreeSet<Pair> {
     let mut out = BTreeSet::new();
     for &s in &slaves {
         for &m in &masters {
-            if let Some((o, area)) = overlap(model, s, m) {
-                if o >= 1e-9 * area && o > 0.0 {
-                    out.insert((s, m));
-                }
+            if let Some((o, area)) = overlap(model, s, m)
+                && o >= 1e-9 * area
+                && o > 0.0
+            {
+                out.insert((s, m));
             }
         }
     }
     out
-}
-
-/// Slave id → masters, for messages.
-#[allow(dead_code)]
-pub fn by_slave(pairs: &BTreeSet<Pair>) -> BTreeMap<u32, Vec<u32>> {
-    let mut m = BTreeMap::<u32, Vec<u32>>::new();
-    for &(s, ma) in pairs {
-        m.entry(s).or_default().push(ma);
-    }
-    m
 }

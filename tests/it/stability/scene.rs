@@ -60,7 +60,9 @@ impl Sheet {
 
 /// `n + 1` equally spaced values from `a` to `b`.
 pub fn linspace(a: Real, b: Real, n: usize) -> Vec<Real> {
-    (0..=n).map(|i| a + (b - a) * i as Real / n as Real).collect()
+    (0..=n)
+        .map(|i| a + (b - a) * i as Real / n as Real)
+        .collect()
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -230,10 +232,7 @@ impl Scene {
 }
 
 fn join(ids: &[u32]) -> String {
-    ids.iter()
-        .map(u32::to_string)
-        .collect::<Vec<_>>()
-        .join(" ")
+    ids.iter().map(u32::to_string).collect::<Vec<_>>().join(" ")
 }
 
 /// Newell's normal of a polygon (not normalised).

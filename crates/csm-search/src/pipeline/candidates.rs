@@ -126,7 +126,7 @@ pub(crate) fn slave_candidates(
         p.octree.build_from_bounding_box,
         cx.compatibility,
     )
-        .map_err(|e| geometry_error(model, s, &e))?;
+    .map_err(|e| geometry_error(model, s, &e))?;
     let mut found: Vec<u32> = Vec::new();
     let mut query_radius = 0.0;
     let tree_error = |e: csm_trees::Error| {

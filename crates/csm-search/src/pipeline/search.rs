@@ -323,7 +323,7 @@ impl ContactSearch {
         let strategy_only = SearchParameters {
             type_search: old.type_search,
             search_factor: old.search_factor,
-            octree: old.octree.clone(),
+            octree: old.octree,
             ..params.clone()
         };
         if strategy_only != *old {
