@@ -10,6 +10,7 @@ mod kratos_conformance;
 mod kratos_search;
 mod kratos_steps;
 mod robust_snapshots;
+mod stability;
 
 use std::path::PathBuf;
 use std::process::{Command, Output};

@@ -15,6 +15,9 @@
 //! - `cargo xtask bench`: csm against Kratos 10.4.4 on generated scenes at sizes 1e3–2e5
 //!   (search step, whole process, peak memory, identical pairs), written to
 //!   `docs/performance.md` (see `bench.rs`).
+//! - `cargo xtask stability`: runs the full stability suite (`tests/it/stability/`, release
+//!   build) and rewrites `docs/stability.md`; plain `cargo test` checks the CI-size cases
+//!   against the committed file.
 //! - `cargo xtask snapshots`: the snapshot tests alone, as CI runs them; review changes
 //!   locally with `cargo insta review` (`cargo install cargo-insta` once).
 //!
@@ -37,8 +40,9 @@ fn main() -> Result<()> {
         Some("features") => features(),
         Some("fixtures") => fixtures(),
         Some("bench") => bench::bench(&args[1..]),
+        Some("stability") => stability(),
         _ => {
-            eprintln!("usage: cargo xtask <ci|snapshots|features|fixtures|bench>");
+            eprintln!("usage: cargo xtask <ci|snapshots|features|fixtures|bench|stability>");
             bail!("unknown or missing command")
         }
     }
@@ -122,6 +126,22 @@ fn features() -> Result<()> {
     cargo(
         &["test", "-p", "csm-io", "--no-default-features", "--lib"],
         &TEST_ENV,
+    )
+}
+
+/// The full stability suite, writing `docs/stability.md`.
+fn stability() -> Result<()> {
+    cargo(
+        &[
+            "test",
+            "--release",
+            "--test",
+            "integration",
+            "--",
+            "--exact",
+            "stability::stability_report_is_current",
+        ],
+        &[("CSM_STABILITY_WRITE", "1")],
     )
 }
 

@@ -10,6 +10,28 @@ pub const LOCAL_COORDINATES_TOLERANCE: Real = 1e-8;
 /// Maximum number of Newton iterations (Kratos: 1000).
 pub const LOCAL_COORDINATES_MAX_ITERATIONS: usize = 1000;
 
+/// Runs `solve` on `geometry` and `p`; where it does not converge, runs it again on the points
+/// and `p` relative to the first node (the local coordinates do not depend on a translation).
+fn relative_fallback(
+    geometry: &Geometry<'_>,
+    p: &Point,
+    solve: fn(&Geometry<'_>, &Point) -> Result<Point, Error>,
+) -> Result<Point, Error> {
+    match solve(geometry, p) {
+        Err(e) if matches!(e.kind(), ErrorKind::NotConverged) => {
+            let origin = geometry.points()[0];
+            let shifted: Vec<Point> = geometry
+                .points()
+                .iter()
+                .map(|q| Point::from(q - origin))
+                .collect();
+            let relative = Geometry::new(geometry.kind(), &shifted)?;
+            solve(&relative, &Point::from(p - origin))
+        }
+        r => r,
+    }
+}
+
 impl Geometry<'_> {
     /// The local coordinates `ξ` of the global point `p`.
     ///
@@ -29,7 +51,18 @@ impl Geometry<'_> {
     /// Errors: [`ErrorKind::NonFinite`] for a non-finite `p`; [`ErrorKind::Degenerate`] when the
     /// Jacobian is singular (zero-length line, zero-area face, flat solid, coincident nodes);
     /// [`ErrorKind::NotConverged`] if the iteration does not converge.
+    ///
+    /// Far from the origin (a mesh translated by 1e6, or elements 1e-4 wide at 1e2) the
+    /// residual `p − x(ξ)` is rounding noise larger than the tolerance allows, and the
+    /// iteration in absolute coordinates cannot converge. Where it does not, the iteration is
+    /// repeated on the points relative to the first node (translation-invariant; same result
+    /// up to rounding). Results that converge in absolute coordinates — all of Kratos'
+    /// fixtures — are unchanged (stability suite, `docs/stability.md`).
     pub fn point_local_coordinates(&self, p: &Point) -> Result<Point, Error> {
+        relative_fallback(self, p, |g, q| g.point_local_coordinates_absolute(q))
+    }
+
+    fn point_local_coordinates_absolute(&self, p: &Point) -> Result<Point, Error> {
         if !is_finite_point(p) {
             return Err(Error::new(ErrorKind::NonFinite));
         }
@@ -53,7 +86,7 @@ impl Geometry<'_> {
                     }
                 }
             }
-            _ => self.point_local_coordinates_least_squares(p),
+            _ => self.point_local_coordinates_least_squares_absolute(p),
         }
     }
 
@@ -73,7 +106,15 @@ impl Geometry<'_> {
     /// convergence tolerance, but not bit for bit).
     ///
     /// Errors: as [`point_local_coordinates`](Self::point_local_coordinates).
+    /// Like [`point_local_coordinates`](Self::point_local_coordinates), an iteration that does
+    /// not converge in absolute coordinates is repeated relative to the first node.
     pub fn point_local_coordinates_least_squares(&self, p: &Point) -> Result<Point, Error> {
+        relative_fallback(self, p, |g, q| {
+            g.point_local_coordinates_least_squares_absolute(q)
+        })
+    }
+
+    fn point_local_coordinates_least_squares_absolute(&self, p: &Point) -> Result<Point, Error> {
         if !is_finite_point(p) {
             return Err(Error::new(ErrorKind::NonFinite));
         }

@@ -5,6 +5,7 @@
 
 mod build_from_aabb;
 mod build_from_normal;
+mod build_from_segment;
 #[allow(clippy::module_inception)]
 mod obb;
 mod obb2;

@@ -20,16 +20,26 @@ pub(crate) enum Bv {
 }
 
 impl Bv {
+    /// Kratos' construction (AABB diagonal, or the face normal with
+    /// `build_from_bounding_box: false`); robust mode (Q1 fixed) builds a face's box on its
+    /// normal (branch B) and a line's along the line, whatever `build_from_bounding_box`
+    /// says, so that the box turns with the mesh (an axis-aligned face otherwise gets a box
+    /// without thickness that grows once the mesh is rotated: pairs depended on the rotation).
     pub(crate) fn build(
         geometry: &Geometry<'_>,
         dim: usize,
         enlargement: Real,
         build_from_bounding_box: bool,
+        compatibility: Compatibility,
     ) -> Result<Bv, csm_geometry::Error> {
-        if dim == 2 {
-            Obb2::from_geometry(geometry, enlargement).map(Bv::D2)
-        } else {
-            Obb::from_geometry(geometry, enlargement, build_from_bounding_box).map(Bv::D3)
+        let robust = compatibility == Compatibility::Robust && !geometry.kind().is_solid();
+        match (dim, robust) {
+            (2, false) => Obb2::from_geometry(geometry, enlargement).map(Bv::D2),
+            (2, true) => Obb2::build_from_segment(geometry, enlargement).map(Bv::D2),
+            (_, false) => {
+                Obb::from_geometry(geometry, enlargement, build_from_bounding_box).map(Bv::D3)
+            }
+            (_, true) => Obb::build_from_normal(geometry, enlargement).map(Bv::D3),
         }
     }
 
@@ -109,8 +119,14 @@ pub(crate) fn slave_candidates(
     let p = cx.params;
     // Q12: the slave box is always built, even without OBB filtering, and fails on a
     // zero-extent bounding box.
-    let slave_bv = Bv::build(&geometry, cx.dim, cx.bbf, p.octree.build_from_bounding_box)
-        .map_err(|e| geometry_error(model, s, &e))?;
+    let slave_bv = Bv::build(
+        &geometry,
+        cx.dim,
+        cx.bbf,
+        p.octree.build_from_bounding_box,
+        cx.compatibility,
+    )
+    .map_err(|e| geometry_error(model, s, &e))?;
     let mut found: Vec<u32> = Vec::new();
     let mut query_radius = 0.0;
     let tree_error = |e: csm_trees::Error| {
@@ -241,6 +257,9 @@ pub(crate) fn slave_candidates(
     Ok(())
 }
 
+/// Robust DirectCheck's inside tolerance in local coordinates (Kratos: ε).
+const ROBUST_INSIDE_TOLERANCE: Real = 1e-9;
+
 /// DirectCheck's geometric test (reference §10.4) for every slave node: project the node onto
 /// the master's plane along `v` (the slave normal: csm never sets the non-historical nodal
 /// NORMAL, Q20) and along `−n_C`; a node passes if, for either direction, the distance is at
@@ -266,6 +285,13 @@ pub(crate) fn direct_check_nodes(
     let n_s = model.condition_normals()[s.index()];
     let n_c = *n_c;
     let origin = master_points[0];
+    // Robust mode: a node on the edge between two masters is inside both (local tolerance
+    // 1e-9 instead of ε), so that rounding — e.g. after a rotation of the mesh — cannot move
+    // it from one master to the other (stability suite).
+    let inside_tolerance = match cx.compatibility {
+        Compatibility::Kratos => EPS,
+        Compatibility::Robust => ROBUST_INSIDE_TOLERANCE,
+    };
     let mut pass = 0u32;
     for (i, node) in conditions
         .nodes(s.index())
@@ -279,7 +305,7 @@ pub(crate) fn direct_check_nodes(
             let (projected, d) = fast_project_direction(&origin, &p, &n_c, &v);
             if d <= limit {
                 let inside = master_geometry
-                    .is_inside(&projected, EPS)
+                    .is_inside(&projected, inside_tolerance)
                     .map_err(|e| geometry_error(model, master, &e))?;
                 if inside.is_some() {
                     pass |= 1 << i;

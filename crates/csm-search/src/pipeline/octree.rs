@@ -189,6 +189,7 @@ impl Search<'_> {
                     self.cx.dim,
                     self.bbf,
                     self.cx.params.octree.build_from_bounding_box,
+                    self.cx.compatibility,
                 )
             })
             .map_err(|e| geometry_error(model, c, e.to_string()))?;

@@ -1142,7 +1142,7 @@ fn kdtree_search(
                     .map(|n| model.nodes().coordinates()[n.index()])
                     .collect();
                 let bv = Geometry::new(model.conditions().kind(idx), &pts)
-                    .and_then(|g| Bv::build(&g, dim, bbf, master_bfb));
+                    .and_then(|g| Bv::build(&g, dim, bbf, master_bfb, compatibility));
                 (*c, bv)
             })
             .collect();

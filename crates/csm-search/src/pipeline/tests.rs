@@ -188,6 +188,7 @@ fn obb_filter_keeps_a_subset_whose_boxes_intersect() {
             3,
             0.1 * H,
             true,
+            crate::Compatibility::Kratos,
         )
         .unwrap();
         for m in masters {
@@ -198,6 +199,7 @@ fn obb_filter_keeps_a_subset_whose_boxes_intersect() {
                 3,
                 0.1 * H,
                 true,
+                crate::Compatibility::Kratos,
             )
             .unwrap();
             assert!(

@@ -34,6 +34,9 @@ pub(super) struct Found {
     pub overlap_tests: usize,
 }
 
+/// One slave's true pairs and the number of overlap tests made for it.
+type SlavePairs = (Vec<(ConditionIdx, ConditionIdx)>, usize);
+
 fn model_error(e: &act::Error) -> Error {
     ErrorKind::Model(e.to_string()).into()
 }
@@ -81,7 +84,6 @@ pub(super) fn find_true_pairs(
         distance_threshold: scene.distance_threshold,
     };
     let ids = model.conditions().ids();
-    type SlavePairs = (Vec<(ConditionIdx, ConditionIdx)>, usize);
     let per_slave: Vec<Result<SlavePairs, Error>> = searched
         .par_iter()
         .map_init(Vec::new, |found, &s| {

@@ -104,10 +104,15 @@ fn points_of(model: &ModelPart, c: usize) -> Vec<Point> {
         .collect()
 }
 
-fn bv(model: &ModelPart, c: usize, dim: usize, bbf: f64) -> Bv {
+/// The box the search builds in `mode`'s compatibility (robust: on the face normal, Q1).
+fn bv(model: &ModelPart, c: usize, dim: usize, bbf: f64, mode: SatMode) -> Bv {
     let pts = points_of(model, c);
     let g = Geometry::new(model.conditions().kind(c), &pts).unwrap();
-    Bv::build(&g, dim, bbf, true).unwrap()
+    let compatibility = match mode {
+        SatMode::Kratos => crate::Compatibility::Kratos,
+        SatMode::Robust => crate::Compatibility::Robust,
+    };
+    Bv::build(&g, dim, bbf, true, compatibility).unwrap()
 }
 
 fn bv_intersect(a: &Bv, b: &Bv, mode: SatMode) -> bool {
@@ -128,9 +133,9 @@ fn obb_oracle(model: &ModelPart, dim: usize, mode: SatMode) -> BTreeSet<(u32, u3
     let bbf = 0.1 * H;
     let mut out = BTreeSet::new();
     for s in conds.iter().filter(|c| flags[c.index()].is(Flag::SLAVE)) {
-        let sb = bv(model, s.index(), dim, bbf);
+        let sb = bv(model, s.index(), dim, bbf, mode);
         for m in conds.iter().filter(|c| flags[c.index()].is(Flag::MASTER)) {
-            if bv_intersect(&sb, &bv(model, m.index(), dim, bbf), mode) {
+            if bv_intersect(&sb, &bv(model, m.index(), dim, bbf, mode), mode) {
                 out.insert((ids[s.index()], ids[m.index()]));
             }
         }
@@ -229,9 +234,9 @@ fn oracle_for(model: &ModelPart, s: &SearchSetup) -> BTreeSet<(u32, u32)> {
     let conds = model.part(sub).conditions();
     let mut out = BTreeSet::new();
     for s in conds.iter().filter(|c| flags[c.index()].is(Flag::SLAVE)) {
-        let sb = bv(model, s.index(), 3, 0.1 * H);
+        let sb = bv(model, s.index(), 3, 0.1 * H, SatMode::Robust);
         for m in conds.iter().filter(|c| flags[c.index()].is(Flag::MASTER)) {
-            let mb = bv(model, m.index(), 3, 0.1 * H);
+            let mb = bv(model, m.index(), 3, 0.1 * H, SatMode::Robust);
             let hit = match (sb, mb) {
                 (Bv::D3(a), Bv::D3(b)) => a.intersects(&b, kind, SatMode::Robust),
                 _ => unreachable!(),
