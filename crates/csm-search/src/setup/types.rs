@@ -267,8 +267,8 @@ impl SetupSource {
     }
 
     /// The 1-based line of a key given by a path with list indices, e.g.
-    /// `steps[1].move.Parts_Upper.rotate.axis` (csm's `steps` and `nodal_values` entries), or
-    /// `None` when the path has no index (see [`line_of_key_path`]).
+    /// `steps[1].move.Parts_Upper.rotate.axis` (csm's `steps` and `nodal_values` entries),
+    /// followed object by object and index by index; `None` when the path has no index.
     pub fn line_of_indexed_key(&self, path: &str) -> Option<usize> {
         line_of_key_path(&self.text, path)
     }
