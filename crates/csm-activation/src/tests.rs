@@ -195,15 +195,20 @@ fn advanced_activation_uses_distance_threshold_times_active_check_factor() {
 fn weighted_gap_of_a_flat_pair_is_gap_times_area() {
     let (mut m, sub) = scene(0.01);
     m.nodal_data_mut().add_scalar(ScalarVar::WeightedGap);
-    compute_weighted_gap(
+    let isolated = compute_weighted_gap(
         &mut m,
         sub,
-        &[(ConditionIdx(0), ConditionIdx(1))],
+        &[
+            (ConditionIdx(0), ConditionIdx(1)),
+            (ConditionIdx(0), ConditionIdx(2)),
+        ],
         MortarMode::Kratos,
         1e24,
         3,
     )
     .unwrap();
+    // The far master (condition 3) overlaps nothing: ISOLATED.
+    assert_eq!(isolated, [false, true]);
     let wg = m.nodal_data().scalar(ScalarVar::WeightedGap, 0).unwrap();
     // Σ_i wg_i = gap · overlap area for a flat interface (D, M rows sum to the overlap).
     assert!(

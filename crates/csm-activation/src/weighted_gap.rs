@@ -19,7 +19,9 @@ pub const WEIGHTED_GAP_AREA_RATIO: Real = 1e-5;
 /// `sub`, then every paired condition `(slave, master)` adds `−n_i · (D x_s − M x_m)_i` to
 /// its slave nodes (dual basis, explicit operator settings, current coordinates, nodal
 /// `NORMAL`; the slave normal is the slave condition's normal, the master normal the master
-/// condition's). Nothing happens when the model has no `WEIGHTED_GAP`.
+/// condition's). Returns, per pair, Kratos' condition flag ISOLATED: true where the pair
+/// contributed nothing (no overlap above [`WEIGHTED_GAP_AREA_RATIO`] of the slave's area).
+/// Nothing happens, and nothing is returned, when the model has no `WEIGHTED_GAP`.
 ///
 /// Errors: a face the mortar routines refuse.
 pub fn compute_weighted_gap(
@@ -29,9 +31,9 @@ pub fn compute_weighted_gap(
     mode: MortarMode,
     distance_threshold: Real,
     dim: usize,
-) -> Result<(), Error> {
+) -> Result<Vec<bool>, Error> {
     if !model.nodal_data().has_scalar(ScalarVar::WeightedGap) {
-        return Ok(());
+        return Ok(Vec::new());
     }
     let dim = dim.clamp(1, 3);
     let sub_nodes = model.part(sub).nodes().to_vec();
@@ -54,8 +56,11 @@ pub fn compute_weighted_gap(
         .par_iter()
         .map(|&(sc, mc)| pair_weighted_gap(m, sc, mc, &seg_settings, &op_settings, dim))
         .collect();
+    let mut isolated = Vec::with_capacity(pairs.len());
     for contribution in contributions {
-        let Some(pair) = contribution? else {
+        let contribution = contribution?;
+        isolated.push(contribution.is_none());
+        let Some(pair) = contribution else {
             continue;
         };
         for (n, g) in model
@@ -70,7 +75,7 @@ pub fn compute_weighted_gap(
     if let Some(col) = model.nodal_data_mut().scalar_mut(ScalarVar::WeightedGap, 0) {
         col.copy_from_slice(&wg);
     }
-    Ok(())
+    Ok(isolated)
 }
 
 /// One pair's weighted-gap contribution per slave node (in node order).

@@ -78,8 +78,8 @@ impl Geometry<'_> {
     /// Self::point_local_coordinates)) of its centre and of each of its nodes.
     ///
     /// Affine kinds (Line2D2, Triangle3D3) have a constant Jacobian, so the unit normal does
-    /// not depend on the local point: it is computed once and is bit-identical to the
-    /// per-point values. Every other kind evaluates each point.
+    /// not depend on the local point: it is computed once, at the reference centre, and is
+    /// bit-identical to the per-point values (no local coordinates are computed). Every other kind evaluates each point.
     ///
     /// Errors: as [`unit_normal`](Self::unit_normal) and
     /// [`point_local_coordinates`](Self::point_local_coordinates); [`ErrorKind::Unsupported`]
@@ -94,12 +94,21 @@ impl Geometry<'_> {
         let at = |p: &Point| -> Result<Vector, Error> {
             self.unit_normal(&self.point_local_coordinates(p)?)
         };
-        let centre = at(&self.center())?;
-        let mut nodes = [Vector::zeros(); MAX_FACE_NODES];
         let affine = matches!(
             self.kind(),
             crate::GeometryKind::Line2D2 | crate::GeometryKind::Triangle3D3
         );
+        // Affine: the normal at any local point is the normal (the local coordinates of the
+        // centre are not needed); a non-finite centre is still refused.
+        let centre = if affine {
+            if !crate::math::is_finite_point(&self.center()) {
+                return Err(Error::new(ErrorKind::NonFinite));
+            }
+            self.unit_normal(&self.reference_center())?
+        } else {
+            at(&self.center())?
+        };
+        let mut nodes = [Vector::zeros(); MAX_FACE_NODES];
         for (slot, p) in nodes.iter_mut().zip(points) {
             *slot = if affine { centre } else { at(p)? };
         }

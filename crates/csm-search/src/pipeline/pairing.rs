@@ -20,6 +20,11 @@ pub struct PairedCondition {
     pub master: ConditionIdx,
     /// ACTIVE flag of the paired condition.
     pub active: bool,
+    /// ISOLATED flag: the weighted gap (ComputeWeightedReaction) found no overlap above
+    /// 1e-5 of the slave's area. False at creation (Kratos' `Initialize` resets it) and left
+    /// so where the weighted gap does not run (Simple activation, No/DirectCheck: nothing
+    /// reads it there).
+    pub isolated: bool,
 }
 
 /// What the serial pass needs besides the model.

@@ -959,8 +959,12 @@ fn check_pairing(
     // ComputeWeightedReaction: only the Advanced activation reads WEIGHTED_GAP.
     if plan.weighted_gap.is_used() {
         let paired: Vec<_> = pair.paired.iter().map(|pc| (pc.slave, pc.master)).collect();
-        act::compute_weighted_gap(model, sub, &paired, mode, distance_threshold, dim)
-            .map_err(activation_error)?;
+        let isolated =
+            act::compute_weighted_gap(model, sub, &paired, mode, distance_threshold, dim)
+                .map_err(activation_error)?;
+        for (pc, isolated) in pair.paired.iter_mut().zip(isolated) {
+            pc.isolated = isolated;
+        }
     }
     let rule = if p.simple_search {
         act::ActivationRule::Simple
@@ -1070,6 +1074,7 @@ fn finish_pairs(
             slave: s,
             master: m,
             active: true,
+            isolated: false,
         });
     }
 }
