@@ -532,6 +532,11 @@ fn report(rows: &[Row], o: &Options) -> Result<String> {
             if r.identical() { "yes" } else { "**NO**" },
         )?;
     }
+    writeln!(
+        s,
+        "\nWhere a target is missed, `performance-analysis.md` gives the profile that explains \
+         it and what would meet it."
+    )?;
     writeln!(s, "\n![search time against slave faces](performance.svg)")?;
     Ok(s)
 }
