@@ -1,7 +1,7 @@
 //! NormalGapProcess and the explicit dual-mortar mapper (reference §10.1 a–b, §10.2).
 
-use csm_geometry::Geometry;
 use csm_geometry::math::{EPS, Point, Real, Vector, norm_kratos};
+use csm_geometry::{Geometry, MAX_FACE_NODES};
 use csm_geometry::{
     MortarFace, MortarMode, MortarOperators, OperatorSettings, SegmentationSettings, dual_basis,
     exact_segmentation, integration_points, mortar_operators,
@@ -249,8 +249,8 @@ fn map_slave(
         let basis = dual_basis(&slave, &gps);
         let operators = mortar_operators(&slave, &master, &gps, Some(&basis));
         out.kept.push(MappedPair {
-            slave_nodes: model.conditions().nodes(sc.index()).to_vec(),
-            master_nodes: model.conditions().nodes(mc.index()).to_vec(),
+            slave: sc,
+            master: mc,
             operators,
         });
     }
@@ -259,8 +259,8 @@ fn map_slave(
 
 /// One pair with an overlap: its operators.
 struct MappedPair {
-    slave_nodes: Vec<NodeIdx>,
-    master_nodes: Vec<NodeIdx>,
+    slave: ConditionIdx,
+    master: ConditionIdx,
     operators: MortarOperators,
 }
 
@@ -387,16 +387,27 @@ pub fn normal_gap_process(
             vaux[n.index()] = Vector::zeros();
         }
         for p in &pairs {
+            let slave_nodes = model.conditions().nodes(p.slave.index());
+            let master_nodes = model.conditions().nodes(p.master.index());
+            let (nm, ns) = (master_nodes.len(), slave_nodes.len());
             for k in 0..dim {
-                let mv: Vec<Real> = p.master_nodes.iter().map(|n| aux[n.index()][k]).collect();
-                let sv: Vec<Real> = p.slave_nodes.iter().map(|n| aux[n.index()][k]).collect();
-                let r = p.operators.residual(&mv, &sv);
-                for (i, n) in p.slave_nodes.iter().enumerate() {
+                let mut mv = [0.0; MAX_FACE_NODES];
+                let mut sv = [0.0; MAX_FACE_NODES];
+                let mut r = [0.0; MAX_FACE_NODES];
+                for (v, n) in mv.iter_mut().zip(master_nodes) {
+                    *v = aux[n.index()][k];
+                }
+                for (v, n) in sv.iter_mut().zip(slave_nodes) {
+                    *v = aux[n.index()][k];
+                }
+                p.operators
+                    .residual_into(&mv[..nm], &sv[..ns], &mut r[..ns]);
+                for (i, n) in slave_nodes.iter().enumerate() {
                     vaux[n.index()][k] += r[i];
                 }
             }
             if iteration == 0 {
-                for (i, n) in p.slave_nodes.iter().enumerate() {
+                for (i, n) in slave_nodes.iter().enumerate() {
                     area[n.index()] += p.operators.d[(i, i)];
                 }
             }

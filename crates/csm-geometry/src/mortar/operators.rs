@@ -21,19 +21,25 @@ impl MortarOperators {
     /// (values in node order), evaluated as ublas does `prod(M, V) − prod(D, S)`: each product
     /// summed in index order from 0, then the difference.
     pub fn residual(&self, master_values: &[Real], slave_values: &[Real]) -> Vec<Real> {
-        (0..self.d.nrows())
-            .map(|i| {
-                let mut mv = 0.0;
-                for (j, v) in master_values.iter().enumerate() {
-                    mv += self.m[(i, j)] * v;
-                }
-                let mut ds = 0.0;
-                for (j, v) in slave_values.iter().enumerate() {
-                    ds += self.d[(i, j)] * v;
-                }
-                mv - ds
-            })
-            .collect()
+        let mut out = vec![0.0; self.d.nrows()];
+        self.residual_into(master_values, slave_values, &mut out);
+        out
+    }
+
+    /// [`residual`](Self::residual) written into `out` (one entry per slave node; entries
+    /// beyond the slave nodes are left alone): the same arithmetic, no allocation.
+    pub fn residual_into(&self, master_values: &[Real], slave_values: &[Real], out: &mut [Real]) {
+        for (i, o) in out.iter_mut().enumerate().take(self.d.nrows()) {
+            let mut mv = 0.0;
+            for (j, v) in master_values.iter().enumerate() {
+                mv += self.m[(i, j)] * v;
+            }
+            let mut ds = 0.0;
+            for (j, v) in slave_values.iter().enumerate() {
+                ds += self.d[(i, j)] * v;
+            }
+            *o = mv - ds;
+        }
     }
 }
 
