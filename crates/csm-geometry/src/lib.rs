@@ -34,9 +34,9 @@ pub use geometry::{
     MAX_FACE_NODES, TETRAHEDRON_LENGTH_FACTOR,
 };
 pub use intersection::{
-    CROSS_AXIS_GUARD, ObbIntersection, SatMode, TOUCH_TOLERANCE, direct_obb_obb, direct_obb2_obb2,
-    sat_obb_obb, sat_obb2_obb2, segment_aabb_intersect, segment_segment_intersect,
-    triangle_aabb_intersect, triangle_triangle_intersect,
+    CENTRE_ROUNDING_EPS, CROSS_AXIS_GUARD, ObbIntersection, SatMode, TOUCH_TOLERANCE,
+    direct_obb_obb, direct_obb2_obb2, sat_obb_obb, sat_obb2_obb2, segment_aabb_intersect,
+    segment_segment_intersect, triangle_aabb_intersect, triangle_triangle_intersect,
 };
 pub use kdop::{KDOP18_DIRECTIONS, Kdop18};
 pub use kind::GeometryKind;

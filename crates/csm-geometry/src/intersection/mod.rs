@@ -31,7 +31,7 @@ mod triangle_triangle;
 mod tests;
 
 pub use direct_obb_obb::{direct_obb_obb, direct_obb2_obb2};
-pub use mode::{CROSS_AXIS_GUARD, ObbIntersection, SatMode, TOUCH_TOLERANCE};
+pub use mode::{CENTRE_ROUNDING_EPS, CROSS_AXIS_GUARD, ObbIntersection, SatMode, TOUCH_TOLERANCE};
 pub use sat_obb_obb::{sat_obb_obb, sat_obb2_obb2};
 pub use segment_aabb::segment_aabb_intersect;
 pub use segment_segment::segment_segment_intersect;

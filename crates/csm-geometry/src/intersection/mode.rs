@@ -43,11 +43,17 @@ pub enum SatMode {
 pub const CROSS_AXIS_GUARD: Real = 1e-10;
 
 /// Relative touching tolerance of the robust SAT: an axis separates only if the gap between the
-/// projected intervals exceeds `1e-9 · scale`, where
-/// `scale = Σ h1 + Σ h2 + |t| + max|c1| + max|c2|` (∞-norms of the centres, so the rounding of
-/// `t = c2 − c1` is covered). Boxes closer than that are reported as intersecting (touching
-/// counts). The tolerance dominates both the projection rounding (~1e-15 · scale) and the
-/// separation that a skipped near-parallel cross axis can hide (~1e-10 · scale); the robust
-/// verdict can therefore differ from the exact one only when the exact separation distance is
-/// below ~1e-9 · scale (the "touching band").
+/// projected intervals exceeds `1e-9 · (Σ h1 + Σ h2 + |t|) + 16 ε · (max|c1| + max|c2|)`: a
+/// band relative to the boxes' own size and distance, plus the rounding of `t = c2 − c1` and of
+/// its projection (∞-norms of the centres; ε the machine epsilon). Boxes closer than that are
+/// reported as intersecting (touching counts). The size part dominates the separation that a
+/// skipped near-parallel cross axis can hide (~1e-10 · size); the centre part only covers
+/// rounding, so the verdict does not depend on where the boxes are: a scene translated by 1e6
+/// keeps its pairs (before, `1e-9 · max|c|` made the band 1e-3 wide there and added pairs —
+/// found by the stability suite). The robust verdict can differ from the exact one only when
+/// the exact separation distance is inside that band (the "touching band").
 pub const TOUCH_TOLERANCE: Real = 1e-9;
+
+/// The rounding factor of the centres in the robust SAT's band ([`TOUCH_TOLERANCE`]), in units
+/// of the machine epsilon.
+pub const CENTRE_ROUNDING_EPS: Real = 16.0;

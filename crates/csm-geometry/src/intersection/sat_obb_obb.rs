@@ -4,8 +4,8 @@
 //! Sign convention: the functions return **true when the boxes intersect** (no separating axis
 //! found); touching boxes intersect.
 
-use super::mode::{CROSS_AXIS_GUARD, SatMode, TOUCH_TOLERANCE};
-use crate::math::{Real, Vector, cross_kratos, dot_kratos};
+use super::mode::{CENTRE_ROUNDING_EPS, CROSS_AXIS_GUARD, SatMode, TOUCH_TOLERANCE};
+use crate::math::{EPS, Real, Vector, cross_kratos, dot_kratos};
 use crate::{Obb, Obb2};
 
 /// One box's axes and half-lengths, as slices so 2D and 3D share the code.
@@ -48,14 +48,16 @@ fn separates_robust(t: &Vector, n: &Vector, f1: &Frame<'_>, f2: &Frame<'_>, tol:
     t.dot(&u).abs() - r > tol
 }
 
-fn scale(t: &Vector, c1: &Vector, c2: &Vector, f1: &Frame<'_>, f2: &Frame<'_>) -> Real {
+/// The robust band: `TOUCH_TOLERANCE · (Σ h + |t|) + 16 ε · (|c1|∞ + |c2|∞)` (see
+/// [`TOUCH_TOLERANCE`]).
+fn band(t: &Vector, c1: &Vector, c2: &Vector, f1: &Frame<'_>, f2: &Frame<'_>) -> Real {
     let h: Real = f1
         .half_lengths
         .iter()
         .chain(f2.half_lengths)
         .map(|h| h.abs())
         .sum();
-    h + t.norm() + c1.amax() + c2.amax()
+    TOUCH_TOLERANCE * (h + t.norm()) + CENTRE_ROUNDING_EPS * EPS * (c1.amax() + c2.amax())
 }
 
 /// The SAT on two frames with centres `c1`, `c2`.
@@ -78,7 +80,7 @@ fn sat(c1: &Vector, c2: &Vector, f1: &Frame<'_>, f2: &Frame<'_>, mode: SatMode) 
             true
         }
         SatMode::Robust => {
-            let tol = TOUCH_TOLERANCE * scale(&t, c1, c2, f1, f2);
+            let tol = band(&t, c1, c2, f1, f2);
             for a in f1.axes.iter().chain(f2.axes) {
                 if separates_robust(&t, a, f1, f2, tol) {
                     return false;
