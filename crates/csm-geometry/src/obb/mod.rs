@@ -6,6 +6,7 @@
 mod build_from_aabb;
 mod build_from_normal;
 mod build_from_segment;
+mod build_min_area;
 #[allow(clippy::module_inception)]
 mod obb;
 mod obb2;
