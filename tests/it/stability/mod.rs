@@ -83,11 +83,7 @@ fn invariance_cell(
 /// Robust-mode invariance failures the suite has found and not fixed yet: (case, check_gap,
 /// transform label). They are reported as `OPEN` in `docs/stability.md` and tolerated by
 /// `robust_mode_is_stable`; anything else fails it.
-const OPEN: &[(&str, &str, &str)] = &[(
-    "cylinder_on_plate",
-    "direct_check",
-    "rotate 0.7 rad about (1, 2, 3)",
-)];
+const OPEN: &[(&str, &str, &str)] = &[];
 
 fn evaluate(case: &Case) -> Vec<Row> {
     let mut rows = Vec::new();

@@ -257,8 +257,11 @@ pub(crate) fn slave_candidates(
     Ok(())
 }
 
-/// Robust DirectCheck's inside tolerance in local coordinates (Kratos: ε).
-const ROBUST_INSIDE_TOLERANCE: Real = 1e-9;
+/// Robust DirectCheck's inside tolerance in local coordinates (Kratos: ε): well above the
+/// rounding of local coordinates far from the origin (a mesh translated by 1e6 moves a node's
+/// local coordinates by ~1e-9 on 0.1-wide faces), so a node on an edge or vertex stays inside
+/// every master around it.
+const ROBUST_INSIDE_TOLERANCE: Real = 1e-6;
 
 /// DirectCheck's geometric test (reference §10.4) for every slave node: project the node onto
 /// the master's plane along `v` (the slave normal: csm never sets the non-historical nodal
@@ -286,7 +289,7 @@ pub(crate) fn direct_check_nodes(
     let n_c = *n_c;
     let origin = master_points[0];
     // Robust mode: a node on the edge between two masters is inside both (local tolerance
-    // 1e-9 instead of ε), so that rounding — e.g. after a rotation of the mesh — cannot move
+    // 1e-6 instead of ε), so that rounding — e.g. after a rotation of the mesh — cannot move
     // it from one master to the other (stability suite).
     let inside_tolerance = match cx.compatibility {
         Compatibility::Kratos => EPS,

@@ -49,6 +49,7 @@ use csm_trees::{LeafId, Octree};
 
 use super::candidates::{Bv, QueryContext, direct_check_nodes, slave_search_nodes};
 use super::filters::passes_orientation;
+use super::pairing::direct_check_count;
 use crate::error::{Error, ErrorKind};
 use crate::setup::{CheckGap, Compatibility, ObbIntersectionType, SearchParameters};
 use pieces::{Piece, linear_pieces, overlaps_cell, pieces_intersect};
@@ -63,6 +64,8 @@ pub(crate) struct OctreeContext<'a> {
     pub slave_nodes: usize,
     pub compatibility: Compatibility,
     pub domain_size: u32,
+    /// Robust mode: the nodes ACTIVE before the pairing (`pairing::direct_check_count`).
+    pub active_before: Option<Vec<bool>>,
 }
 
 /// What one octree search saw, besides the pairs (for tests and warnings).
@@ -513,17 +516,7 @@ fn add_potential_pairing(
     let flags = model.nodes_mut().flags_mut();
     match cx.params.check_gap {
         CheckGap::DirectCheck => {
-            let mut counted = false;
-            for (i, n) in nodes.iter().enumerate() {
-                let f = &mut flags[n.index()];
-                if f.is(Flag::ACTIVE) {
-                    counted = true;
-                } else if node_pass & (1 << i) != 0 {
-                    f.set(Flag::ACTIVE, true);
-                    counted = true;
-                }
-            }
-            counted
+            direct_check_count(flags, &nodes, node_pass, cx.active_before.as_deref())
         }
         _ => {
             for n in &nodes {

@@ -32,6 +32,52 @@ pub(crate) struct PairingContext<'a> {
     pub params: &'a SearchParameters,
     pub inverted: bool,
     pub slave_nodes: usize,
+    /// Robust mode: the nodes ACTIVE before this search's pairing (see [`direct_check_count`]);
+    /// `None` in kratos mode.
+    pub active_before: Option<&'a [bool]>,
+}
+
+/// The ACTIVE flags of every node, for [`direct_check_count`]'s robust rule.
+pub(crate) fn active_snapshot(model: &ModelPart) -> Vec<bool> {
+    model
+        .nodes()
+        .flags()
+        .iter()
+        .map(|f| f.is(Flag::ACTIVE))
+        .collect()
+}
+
+/// DirectCheck's `AddPotentialPairing` count for one candidate master (reference §10.4): the
+/// slave nodes in `node_pass` (they passed the geometric test against this master) become
+/// ACTIVE, and the candidate pairs if one of them passed or a node counted as ACTIVE.
+///
+/// Kratos (`active_before` `None`) counts a node ACTIVE at the moment of the test, including
+/// one that an earlier candidate of this very search activated: the pairs then depend on the
+/// order of the candidates, which follows the tree and changes when the mesh is rotated or
+/// moved (the stability suite found up to 20 pairs of one slave changing). Robust mode counts
+/// only the nodes ACTIVE before the search's pairing began (`active_before`): the pairs are
+/// the same in any order.
+pub(crate) fn direct_check_count(
+    flags: &mut [csm_model::Flags],
+    nodes: &[csm_model::NodeIdx],
+    node_pass: u32,
+    active_before: Option<&[bool]>,
+) -> bool {
+    let mut counted = false;
+    for (i, n) in nodes.iter().enumerate() {
+        let f = &mut flags[n.index()];
+        let was_active = match active_before {
+            None => f.is(Flag::ACTIVE),
+            Some(before) => before[n.index()],
+        };
+        if node_pass & (1 << i) != 0 {
+            f.set(Flag::ACTIVE, true);
+            counted = true;
+        } else if was_active {
+            counted = true;
+        }
+    }
+    counted
 }
 
 /// Applies the candidates of slave `s` in order; returns the (slave, master) pairs created.
@@ -74,19 +120,12 @@ pub(crate) fn apply_candidates(
                         }
                         true
                     }
-                    _ => {
-                        let mut counted = false;
-                        for (i, n) in nodes.iter().enumerate() {
-                            let flags = &mut model.nodes_mut().flags_mut()[n.index()];
-                            if flags.is(Flag::ACTIVE) {
-                                counted = true;
-                            } else if c.node_pass & (1 << i) != 0 {
-                                flags.set(Flag::ACTIVE, true);
-                                counted = true;
-                            }
-                        }
-                        counted
-                    }
+                    _ => direct_check_count(
+                        model.nodes_mut().flags_mut(),
+                        &nodes,
+                        c.node_pass,
+                        cx.active_before,
+                    ),
                 };
                 if counted {
                     let master_id = ConditionId(model.conditions().ids()[c.master.index()]);

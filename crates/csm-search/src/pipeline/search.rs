@@ -16,7 +16,7 @@ use super::candidates::{Bv, Candidate, QueryContext, slave_candidates};
 use super::motion::{apply_nodal_values, check_step_parts, step_positions};
 use super::octree::{OctreeContext, search_octree_report};
 pub use super::pairing::PairedCondition;
-use super::pairing::{PairingContext, apply_candidates};
+use super::pairing::{PairingContext, active_snapshot, apply_candidates};
 use super::result::{NodeResult, SearchResult};
 use super::shared_conditions::check_contact_model_parts;
 use super::step_jump::compute_step_jump;
@@ -804,6 +804,7 @@ fn update_mortar_conditions(
             slave_nodes: usize::from(pair.instance.slave_nodes),
             compatibility,
             domain_size,
+            active_before: (compatibility == Compatibility::Robust).then(|| active_snapshot(model)),
         };
         let report = if inverted {
             // Robust mode: the octree searches from the other side by swapping the roles of
@@ -816,6 +817,7 @@ fn update_mortar_conditions(
             };
             let ocx = OctreeContext {
                 params: &direct,
+                active_before: ocx.active_before.clone(),
                 ..ocx
             };
             let report = search_octree_report(model, &ocx, &mut created);
@@ -1209,10 +1211,12 @@ fn kdtree_search(
             })
             .collect()
     };
+    let active_before = (compatibility == Compatibility::Robust).then(|| active_snapshot(model));
     let pcx = PairingContext {
         params: p,
         inverted,
         slave_nodes: usize::from(pair.instance.slave_nodes),
+        active_before: active_before.as_deref(),
     };
     for (s, cands) in slaves.iter().zip(candidates) {
         apply_candidates(model, &pcx, *s, &cands?, created);

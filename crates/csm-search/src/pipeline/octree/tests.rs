@@ -326,6 +326,8 @@ fn search_directly(
         slave_nodes: dim,
         compatibility: s.compatibility,
         domain_size,
+        active_before: (s.compatibility == crate::setup::Compatibility::Robust)
+            .then(|| crate::pipeline::pairing::active_snapshot(model)),
     };
     let mut created = Vec::new();
     let report = search_octree_report(model, &cx, &mut created).unwrap();
