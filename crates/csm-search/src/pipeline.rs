@@ -22,6 +22,8 @@ mod step_jump;
 
 pub(crate) use filters::passes_orientation;
 pub use result::{NodeResult, SearchResult, StepResult};
+#[cfg(test)]
+pub(crate) use search::morton_order;
 pub use search::{ContactSearch, PairedCondition};
 pub(crate) use search::{TruthScene, locate};
 

@@ -3,7 +3,7 @@
 
 use std::collections::BTreeSet;
 
-use csm_geometry::math::{EPS, Real, Vector};
+use csm_geometry::math::{EPS, Point, Real, Vector};
 use csm_geometry::{Geometry, Kdop18};
 use csm_model::{
     ConditionId, ConditionIdx, Flag, ModelPart, NodalHMode, NodeIdx, NormalsMode, PartIdx,
@@ -1030,6 +1030,59 @@ pub(crate) struct TruthScene {
     pub normal_orientation_threshold: Real,
 }
 
+/// The positions in `slaves` ordered along a Morton (Z-order) curve of the slave centres
+/// (node means, quantised to 21 bits per axis in their bounding box); ties by position, so the
+/// order is deterministic. Only the order of the parallel queries depends on it, never a result.
+pub(crate) fn morton_order(model: &ModelPart, slaves: &[ConditionIdx]) -> Vec<usize> {
+    let coords = model.nodes().coordinates();
+    let centres: Vec<Point> = slaves
+        .iter()
+        .map(|c| {
+            let nodes = model.conditions().nodes(c.index());
+            let sum = nodes
+                .iter()
+                .fold(Vector::zeros(), |acc, n| acc + coords[n.index()].coords);
+            Point::from(sum / nodes.len().max(1) as Real)
+        })
+        .collect();
+    let mut lo = Vector::repeat(Real::INFINITY);
+    let mut hi = Vector::repeat(Real::NEG_INFINITY);
+    for p in &centres {
+        lo = lo.inf(&p.coords);
+        hi = hi.sup(&p.coords);
+    }
+    let cells = Real::from((1u32 << 21) - 1);
+    let quantise = |x: Real, k: usize| -> u64 {
+        let span = hi[k] - lo[k];
+        if span.is_nan() || span <= 0.0 || !x.is_finite() {
+            return 0;
+        }
+        (((x - lo[k]) / span * cells).clamp(0.0, cells)) as u64
+    };
+    let spread = |mut v: u64| -> u64 {
+        // Insert two zero bits between the 21 low bits of `v`.
+        v &= 0x1f_ffff;
+        v = (v | v << 32) & 0x1f_0000_0000_ffff;
+        v = (v | v << 16) & 0x1f_0000_ff00_00ff;
+        v = (v | v << 8) & 0x100f_00f0_0f00_f00f;
+        v = (v | v << 4) & 0x10c3_0c30_c30c_30c3;
+        v = (v | v << 2) & 0x1249_2492_4924_9249;
+        v
+    };
+    let mut keyed: Vec<(u64, usize)> = centres
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let code = spread(quantise(p.x, 0))
+                | spread(quantise(p.y, 1)) << 1
+                | spread(quantise(p.z, 2)) << 2;
+            (code, i)
+        })
+        .collect();
+    keyed.sort_unstable();
+    keyed.into_iter().map(|(_, i)| i).collect()
+}
+
 /// How a step runs, beside the pair's own parameters.
 #[derive(Debug, Clone, Copy)]
 struct RunMode {
@@ -1160,14 +1213,20 @@ fn kdtree_search(
     let mut master_kdops: Vec<Option<Kdop18>> = Vec::new();
     if with_kdop {
         master_kdops = vec![None; model.conditions().len()];
-        for (c, _) in &points {
-            let pts: Vec<_> = model
-                .conditions()
-                .nodes(*c as usize)
-                .iter()
-                .map(|n| model.nodes().coordinates()[n.index()])
-                .collect();
-            master_kdops[*c as usize] = Some(Kdop18::from_points(&pts).enlarged(bbf));
+        let built: Vec<(u32, Kdop18)> = points
+            .par_iter()
+            .map(|(c, _)| {
+                let pts: Vec<_> = model
+                    .conditions()
+                    .nodes(*c as usize)
+                    .iter()
+                    .map(|n| model.nodes().coordinates()[n.index()])
+                    .collect();
+                (*c, Kdop18::from_points(&pts).enlarged(bbf))
+            })
+            .collect();
+        for (c, k) in built {
+            master_kdops[c as usize] = Some(k);
         }
     }
     let slaves: Vec<ConditionIdx> = conditions
@@ -1203,12 +1262,24 @@ fn kdtree_search(
             master_bvs: &master_bvs,
             master_kdops: &master_kdops,
         };
-        slaves
+        // The queries run along a Morton curve of the slave centres (neighbouring queries
+        // visit the same tree nodes and masters); the results go back to the slave order.
+        let order = morton_order(model, &slaves);
+        let in_curve_order: Vec<Result<Vec<Candidate>, Error>> = order
             .par_iter()
-            .map_init(Vec::new, |scratch, s| {
-                slave_candidates(&cx, &tree, *s, scratch)?;
+            .map_init(Vec::new, |scratch, &k| {
+                slave_candidates(&cx, &tree, slaves[k], scratch)?;
                 Ok(scratch.clone())
             })
+            .collect();
+        let mut by_slave: Vec<Option<Result<Vec<Candidate>, Error>>> =
+            (0..slaves.len()).map(|_| None).collect();
+        for (&k, r) in order.iter().zip(in_curve_order) {
+            by_slave[k] = Some(r);
+        }
+        by_slave
+            .into_iter()
+            .map(|r| r.expect("every slave was queried"))
             .collect()
     };
     let active_before = (compatibility == Compatibility::Robust).then(|| active_snapshot(model));

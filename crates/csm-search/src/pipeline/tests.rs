@@ -755,3 +755,37 @@ fn the_step_jump_is_decided_again_every_step() {
     assert_eq!(jump.moving_nodes, 1);
     assert!(jump.moves_nodes, "MappingCheck moves the nodes");
 }
+
+/// The Morton order of the slave queries is a permutation, deterministic, and walks the
+/// centres of a regular grid in Z order (the quadrant of the first half comes first).
+#[test]
+fn morton_order_is_a_deterministic_z_curve_permutation() {
+    let model = plates(4, 0.01, false);
+    let slave = model.find_part("Slave").unwrap();
+    let slaves = model.part(slave).conditions().to_vec();
+    let order = morton_order(&model, &slaves);
+    let mut sorted = order.clone();
+    sorted.sort_unstable();
+    assert_eq!(sorted, (0..slaves.len()).collect::<Vec<_>>());
+    assert_eq!(order, morton_order(&model, &slaves));
+    // Z order: the first quarter of the curve lies in the lower-left quadrant of the plate.
+    let coords = model.nodes().coordinates();
+    let centre = |k: usize| {
+        let nodes = model.conditions().nodes(slaves[k].index());
+        let n = nodes.len() as f64;
+        let (x, y) = nodes.iter().fold((0.0, 0.0), |(x, y), i| {
+            (x + coords[i.index()].x, y + coords[i.index()].y)
+        });
+        (x / n, y / n)
+    };
+    let (xs, ys): (Vec<f64>, Vec<f64>) = (0..slaves.len()).map(centre).unzip();
+    let mid = |v: &[f64]| {
+        (v.iter().cloned().fold(f64::INFINITY, f64::min)
+            + v.iter().cloned().fold(f64::NEG_INFINITY, f64::max))
+            / 2.0
+    };
+    let (mx, my) = (mid(&xs), mid(&ys));
+    for &k in &order[..slaves.len() / 4] {
+        assert!(xs[k] < mx && ys[k] < my, "{k}: ({}, {})", xs[k], ys[k]);
+    }
+}
