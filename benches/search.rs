@@ -28,6 +28,19 @@ fn kdtree(c: &mut Criterion) {
     c.bench_function("kdtree build 1e5", |b| {
         b.iter(|| KdTree::new(black_box(&points), 4).unwrap())
     });
+    // A multi-step run's tree update: the points translated and perturbed a little.
+    let moved: Vec<Point> = points
+        .iter()
+        .map(|(i, p)| p + Vector::new(0.01, 0.002 * f64::from(i % 3), -0.01))
+        .collect();
+    c.bench_function("kdtree refit 1e5", |b| {
+        let mut tree = KdTree::new(&points, 4).unwrap();
+        b.iter(|| tree.refit(|i| moved[i as usize]).unwrap())
+    });
+    c.bench_function("kdtree rebuild_moved 1e5", |b| {
+        let mut tree = KdTree::new(&points, 4).unwrap();
+        b.iter(|| tree.rebuild_moved(|i| moved[i as usize]).unwrap())
+    });
     let tree = KdTree::new(&points, 4).unwrap();
     let mut out = Vec::new();
     c.bench_function("kdtree in_radius 1e3 queries", |b| {

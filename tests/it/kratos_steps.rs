@@ -7,8 +7,9 @@
 //! The `csm` binary runs each fixture's mesh and SETUP.json with `--threads 1` and `--threads 2`.
 //! For every step (and the top level, = the last step): identical pair sets, ACTIVE flags and
 //! paired-condition counts, NORMAL_GAP within 1e-9 relative (1e-12 absolute near 0), null
-//! (never mapped, the 1e12 sentinel) where Kratos has null; and the two thread counts give the
-//! same RESULT.json but for the timings.
+//! (never mapped, the 1e12 sentinel) where Kratos has null; and the two thread counts, and a
+//! kd-tree refitted or rebuilt between steps (`refit_tree`), give the same RESULT.json but for
+//! the timings.
 
 use std::path::{Path, PathBuf};
 
@@ -28,16 +29,19 @@ fn fixtures() -> Vec<PathBuf> {
     files
 }
 
-/// Runs `csm search` on the fixture's mesh and setup with `threads` worker threads.
-fn run_csm(name: &str, fixture: &Value, threads: &str) -> Result<Value, String> {
+/// Runs `csm search` on the fixture's mesh and setup with `threads` worker threads; with
+/// `rebuild`, the setup says `"refit_tree": false`.
+fn run_csm(name: &str, fixture: &Value, threads: &str, rebuild: bool) -> Result<Value, String> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mesh = root.join(fixture["mesh"].as_str().expect("mesh path"));
-    let setup = scratch(&format!("steps_{name}_setup.json"));
-    std::fs::write(
-        &setup,
-        serde_json::to_string_pretty(&fixture["setup"]).unwrap(),
-    )
-    .unwrap();
+    let setup = scratch(&format!("steps_{name}_{threads}_{rebuild}_setup.json"));
+    let mut text = fixture["setup"].clone();
+    if rebuild {
+        text.as_object_mut()
+            .expect("setup object")
+            .insert("refit_tree".to_owned(), Value::Bool(false));
+    }
+    std::fs::write(&setup, serde_json::to_string_pretty(&text).unwrap()).unwrap();
     let out = csm(&[
         "search",
         mesh.to_str().unwrap(),
@@ -163,7 +167,7 @@ fn steps_and_dynamic_search_match_kratos() {
         let name = file.file_stem().unwrap().to_string_lossy().into_owned();
         let fixture: Value =
             serde_json::from_str(&std::fs::read_to_string(file).unwrap()).expect("fixture JSON");
-        let one = match run_csm(&name, &fixture, "1") {
+        let one = match run_csm(&name, &fixture, "1", false) {
             Ok(v) => v,
             Err(e) => {
                 failures.push(format!("{name}: csm failed: {e}"));
@@ -185,13 +189,23 @@ fn steps_and_dynamic_search_match_kratos() {
                 o.map_or(0, Vec::len)
             )),
         }
-        match run_csm(&name, &fixture, "2") {
+        match run_csm(&name, &fixture, "2", false) {
             Ok(two) => {
-                if without_timings(two) != without_timings(one) {
+                if without_timings(two) != without_timings(one.clone()) {
                     failures.push(format!("{name}: --threads 2 differs from --threads 1"));
                 }
             }
             Err(e) => failures.push(format!("{name}: csm failed with 2 threads: {e}")),
+        }
+        // The kd-tree refitted between steps (the default) and rebuilt every step (Kratos)
+        // give the same RESULT.json.
+        match run_csm(&name, &fixture, "1", true) {
+            Ok(rebuilt) => {
+                if without_timings(rebuilt) != without_timings(one) {
+                    failures.push(format!("{name}: \"refit_tree\": false differs"));
+                }
+            }
+            Err(e) => failures.push(format!("{name}: csm failed with refit_tree false: {e}")),
         }
     }
     assert!(

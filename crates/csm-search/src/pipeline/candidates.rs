@@ -98,24 +98,41 @@ fn geometry_error(model: &ModelPart, c: ConditionIdx, e: &csm_geometry::Error) -
     .into()
 }
 
+/// The buffers of the slave queries of one worker, reused from query to query (no
+/// allocation per query once they have grown).
+#[derive(Debug, Default)]
+pub(crate) struct QueryScratch {
+    /// The candidates of the last query, in kd-tree result order.
+    pub candidates: Vec<Candidate>,
+    /// The kd-tree's hits.
+    found: Vec<u32>,
+    /// The slave's node coordinates.
+    points: Vec<Point>,
+}
+
 /// The candidates of slave `s` in `tree` (the master-side condition centres), in kd-tree
-/// result order (Kratos' traversal order).
+/// result order (Kratos' traversal order), into `scratch.candidates`. Returns whether the
+/// kd-tree query reached the result cap (`max_number_results`).
 pub(crate) fn slave_candidates(
     cx: &QueryContext<'_>,
     tree: &KdTree<u32>,
     s: ConditionIdx,
-    out: &mut Vec<Candidate>,
-) -> Result<(), Error> {
+    scratch: &mut QueryScratch,
+) -> Result<bool, Error> {
+    let QueryScratch {
+        candidates: out,
+        found,
+        points,
+    } = scratch;
     out.clear();
     let model = cx.model;
     let conditions = model.conditions();
     let nodes = conditions.nodes(s.index());
-    let points: Vec<Point> = nodes
-        .iter()
-        .map(|n| model.nodes().coordinates()[n.index()])
-        .collect();
+    points.clear();
+    points.extend(nodes.iter().map(|n| model.nodes().coordinates()[n.index()]));
+    let points = &points[..];
     let kind = conditions.kind(s.index());
-    let geometry = Geometry::new(kind, &points).map_err(|e| geometry_error(model, s, &e))?;
+    let geometry = Geometry::new(kind, points).map_err(|e| geometry_error(model, s, &e))?;
     let p = cx.params;
     // Q12: the slave box is always built, even without OBB filtering, and fails on a
     // zero-extent bounding box.
@@ -127,7 +144,6 @@ pub(crate) fn slave_candidates(
         cx.compatibility,
     )
     .map_err(|e| geometry_error(model, s, &e))?;
-    let mut found: Vec<u32> = Vec::new();
     let mut query_radius = 0.0;
     let tree_error = |e: csm_trees::Error| {
         Error::from(ErrorKind::Geometry {
@@ -135,7 +151,7 @@ pub(crate) fn slave_candidates(
             message: format!("kd-tree query: {e}"),
         })
     };
-    match p.type_search {
+    let status = match p.type_search {
         SearchTreeType::KdtreeInRadius
         | SearchTreeType::KdtreeInRadiusWithObb
         | SearchTreeType::Kdop
@@ -153,8 +169,8 @@ pub(crate) fn slave_candidates(
                 }
                 None => center,
             };
-            tree.in_radius(&query, radius, p.allocation_size, &mut found)
-                .map_err(tree_error)?;
+            tree.in_radius(&query, radius, p.allocation_size, found)
+                .map_err(tree_error)?
         }
         SearchTreeType::KdtreeInBox | SearchTreeType::KdtreeInBoxWithObb => {
             let length = geometry
@@ -193,10 +209,10 @@ pub(crate) fn slave_candidates(
                     (aabb.min - margin, aabb.max + margin)
                 }
             };
-            tree.in_box(&lo, &hi, p.allocation_size, &mut found)
-                .map_err(tree_error)?;
+            tree.in_box(&lo, &hi, p.allocation_size, found)
+                .map_err(tree_error)?
         }
-    }
+    };
     let mode = match cx.compatibility {
         Compatibility::Kratos => SatMode::Kratos,
         Compatibility::Robust => SatMode::Robust,
@@ -208,12 +224,12 @@ pub(crate) fn slave_candidates(
     // behind the face (penetration) is not lost.
     let slave_kdop = cx.kdop.then(|| {
         let k = match cx.compatibility {
-            Compatibility::Kratos => Kdop18::from_points(&points),
-            Compatibility::Robust => Kdop18::swept(&points, &slave_normal, query_radius),
+            Compatibility::Kratos => Kdop18::from_points(points),
+            Compatibility::Robust => Kdop18::swept(points, &slave_normal, query_radius),
         };
         k.enlarged(cx.bbf)
     });
-    for &c in &found {
+    for &c in found.iter() {
         let master = ConditionIdx(c);
         if let Some(kdop) = &slave_kdop {
             match &cx.master_kdops[master.index()] {
@@ -254,7 +270,7 @@ pub(crate) fn slave_candidates(
         }
         out.push(Candidate { master, node_pass });
     }
-    Ok(())
+    Ok(status.truncated)
 }
 
 /// Robust DirectCheck's inside tolerance in local coordinates (Kratos: ε): well above the

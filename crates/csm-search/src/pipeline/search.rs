@@ -2,6 +2,7 @@
 //! `ExecuteFinalizeSolutionStep` of Kratos' ALMContactProcess and its search processes.
 
 use std::collections::BTreeSet;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use csm_geometry::math::{EPS, Point, Real, Vector};
 use csm_geometry::{Geometry, Kdop18};
@@ -12,7 +13,7 @@ use csm_model::{
 use csm_trees::KdTree;
 use rayon::prelude::*;
 
-use super::candidates::{Bv, Candidate, QueryContext, slave_candidates};
+use super::candidates::{Bv, Candidate, QueryContext, QueryScratch, slave_candidates};
 use super::motion::{apply_nodal_values, check_step_parts, step_positions};
 use super::octree::{OctreeContext, search_octree_report};
 pub use super::pairing::PairedCondition;
@@ -47,6 +48,17 @@ struct PairSearch {
     /// The INDEX_MAP entries (slave id, master id) the MappingCheck mortar pruning removed in
     /// the last step.
     pruned: Vec<(u32, u32)>,
+    /// The kd-tree of the last step, kept for a multi-step run ([`RunMode::keep_tree`]): the
+    /// next step refits it when the master-side conditions are the same.
+    tree: Option<KeptTree>,
+}
+
+/// A kd-tree kept from one step to the next, with the condition ids it was built over (in
+/// container order).
+#[derive(Debug, Clone)]
+struct KeptTree {
+    ids: Vec<u32>,
+    tree: KdTree<u32>,
 }
 
 /// A contact search over a model: created by [`ContactSearch::initialize`], run step by step.
@@ -255,6 +267,7 @@ impl ContactSearch {
                 sub,
                 paired: Vec::new(),
                 pruned: Vec::new(),
+                tree: None,
             });
         }
         // TO_ERASE is reset on every Contact condition after the clones (§4.1); csm never
@@ -393,6 +406,7 @@ impl ContactSearch {
             compatibility: self.setup.compatibility,
             frictional: self.setup.contact_type.is_frictional(),
             python_path: !self.setup.cpp_search_parameters,
+            keep_tree: self.setup.refit_tree && self.setup.steps.len() > 1,
         };
         let pair = &mut self.pairs[i];
         let Some(pair_plan) = self.plan.pairs.get(&key) else {
@@ -468,6 +482,7 @@ impl ContactSearch {
                     compatibility: self.setup.compatibility,
                     frictional: self.setup.contact_type.is_frictional(),
                     python_path: !self.setup.cpp_search_parameters,
+                    keep_tree: self.setup.refit_tree && self.setup.steps.len() > 1,
                 };
                 let pair = &mut self.pairs[i];
                 // Every key of the setup has its pair plan (both come from `setup.pairs`).
@@ -835,7 +850,7 @@ fn update_mortar_conditions(
             pair,
             &p,
             plan,
-            compatibility,
+            (compatibility, run.keep_tree),
             delta.as_deref(),
             &mut created,
         )?;
@@ -892,6 +907,7 @@ fn check_pairing(
         compatibility,
         frictional,
         python_path,
+        ..
     } = run;
     use csm_activation as act;
     let inverted = p.inverted_search;
@@ -1092,6 +1108,8 @@ struct RunMode {
     frictional: bool,
     /// The setup came through Kratos' Python layer (not `cpp_search_parameters`).
     python_path: bool,
+    /// The setup has more than one step and `refit_tree`: the kd-tree is kept and refitted.
+    keep_tree: bool,
 }
 
 /// Swaps the roles of the conditions of `sub` for an inverted octree search: SLAVE := not
@@ -1136,12 +1154,19 @@ fn finish_pairs(
 
 /// SearchUsingKDTree (§5.3): the kd-tree over the point list, the parallel per-slave queries
 /// and tests, then the serial, ordered application.
+///
+/// In a multi-step run (`keep_tree`) the tree of the last step is refitted to the moved
+/// centres instead of rebuilt when the master-side conditions are the same and the result
+/// order cannot change the pairs (not Kratos-mode DirectCheck, whose node counting follows
+/// the candidate order). A refitted tree finds the same masters; if a query reaches the
+/// result cap (`max_number_results`), where the traversal order decides which are kept, the
+/// tree is rebuilt and every query run again.
 fn kdtree_search(
     model: &mut ModelPart,
-    pair: &PairSearch,
+    pair: &mut PairSearch,
     p: &SearchParameters,
     plan: &PairPlan,
-    compatibility: Compatibility,
+    (compatibility, keep_tree): (Compatibility, bool),
     delta: Option<&[Vector]>,
     created: &mut Vec<(ConditionIdx, ConditionIdx)>,
 ) -> Result<(), Error> {
@@ -1165,11 +1190,29 @@ fn kdtree_search(
             )
         })
         .collect();
-    let tree = KdTree::new(&points, p.bucket_size).map_err(|e| {
+    let tree_error = |e: csm_trees::Error| {
         Error::from(ErrorKind::Model(format!(
             "kd-tree of the master conditions: {e}"
         )))
-    })?;
+    };
+    let order_free = p.check_gap != CheckGap::DirectCheck || compatibility == Compatibility::Robust;
+    let ids: Vec<u32> = points.iter().map(|(c, _)| *c).collect();
+    let (mut tree, refitted) = match pair.tree.take() {
+        Some(mut kept) if keep_tree && order_free && kept.ids == ids => {
+            let mut centers = vec![Point::origin(); model.conditions().len()];
+            for (c, x) in &points {
+                centers[*c as usize] = *x;
+            }
+            kept.tree
+                .refit(|c| centers[c as usize])
+                .map_err(tree_error)?;
+            (kept.tree, true)
+        }
+        _ => (
+            KdTree::new(&points, p.bucket_size).map_err(tree_error)?,
+            false,
+        ),
+    };
     // Read in place: the model is only read until the serial pairing below.
     let h_col = model
         .nodal_data()
@@ -1265,13 +1308,26 @@ fn kdtree_search(
         // The queries run along a Morton curve of the slave centres (neighbouring queries
         // visit the same tree nodes and masters); the results go back to the slave order.
         let order = morton_order(model, &slaves);
-        let in_curve_order: Vec<Result<Vec<Candidate>, Error>> = order
-            .par_iter()
-            .map_init(Vec::new, |scratch, &k| {
-                slave_candidates(&cx, &tree, slaves[k], scratch)?;
-                Ok(scratch.clone())
-            })
-            .collect();
+        let query_all = |tree: &KdTree<u32>| -> (Vec<Result<Vec<Candidate>, Error>>, bool) {
+            let truncated = AtomicBool::new(false);
+            let found = order
+                .par_iter()
+                .map_init(QueryScratch::default, |scratch, &k| {
+                    if slave_candidates(&cx, tree, slaves[k], scratch)? {
+                        truncated.store(true, Ordering::Relaxed);
+                    }
+                    Ok(scratch.candidates.clone())
+                })
+                .collect();
+            (found, truncated.into_inner())
+        };
+        let (mut in_curve_order, truncated) = query_all(&tree);
+        if refitted && truncated {
+            // A capped query keeps the first masters in traversal order: take a rebuilt
+            // tree's order, as a step without a kept tree does.
+            tree = KdTree::new(&points, p.bucket_size).map_err(tree_error)?;
+            in_curve_order = query_all(&tree).0;
+        }
         let mut by_slave: Vec<Option<Result<Vec<Candidate>, Error>>> =
             (0..slaves.len()).map(|_| None).collect();
         for (&k, r) in order.iter().zip(in_curve_order) {
@@ -1282,6 +1338,9 @@ fn kdtree_search(
             .map(|r| r.expect("every slave was queried"))
             .collect()
     };
+    if keep_tree {
+        pair.tree = Some(KeptTree { ids, tree });
+    }
     let active_before = (compatibility == Compatibility::Robust).then(|| active_snapshot(model));
     let pcx = PairingContext {
         params: p,

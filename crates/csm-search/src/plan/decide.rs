@@ -114,6 +114,7 @@ impl Plan {
                 Decision::Used(StepsPlan {
                     count: setup.steps.len(),
                     moved_parts: moved.into_iter().collect(),
+                    refit_tree: setup.refit_tree && setup.steps.len() > 1,
                 })
             },
             variables: variables(model, setup),

@@ -228,7 +228,12 @@ impl Plan {
                 } else {
                     quoted(&s.moved_parts)
                 }
-            )
+            ) + if s.refit_tree {
+                "; kd-trees refitted between steps (refit_tree), not rebuilt (except for \
+                 Kratos-mode DirectCheck and where a query reaches max_number_results)"
+            } else {
+                "; kd-trees rebuilt every step"
+            }
         }));
         items
     }

@@ -289,7 +289,8 @@ fn steps_allocate_the_motion_variables() {
         plan.steps,
         Decision::Used(StepsPlan {
             count: 2,
-            moved_parts: vec!["Slave".to_owned()]
+            moved_parts: vec!["Slave".to_owned()],
+            refit_tree: true,
         })
     );
     for name in ["DISPLACEMENT", "VELOCITY", "ACCELERATION"] {
@@ -303,6 +304,10 @@ fn steps_allocate_the_motion_variables() {
         plan.to_string()
             .contains("2 search steps; rigid motions of `Slave`")
     );
+    assert!(plan.to_string().contains("kd-trees refitted between steps"));
+    let rebuilt = text.replacen('{', r#"{"refit_tree": false, "#, 1);
+    let plan = Plan::new(&triangles(), &parse_setup(&rebuilt, "setup.json").unwrap()).unwrap();
+    assert!(plan.to_string().contains("kd-trees rebuilt every step"));
     let plan = check("{}");
     assert_eq!(plan.steps, Decision::LeftOut(Reason::NoSteps));
     assert_eq!(

@@ -117,6 +117,9 @@ pub struct StepsPlan {
     pub count: usize,
     /// Full paths of the parts moved in some step.
     pub moved_parts: Vec<String>,
+    /// The kd-trees are kept and refitted between steps (`refit_tree`; not for Kratos-mode
+    /// DirectCheck, whose result depends on the candidate order).
+    pub refit_tree: bool,
 }
 
 /// Where NODAL_H comes from.

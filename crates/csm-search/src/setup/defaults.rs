@@ -104,7 +104,7 @@ pub(crate) const WRAPPER_DEFAULTS: &str = r#"{
 }"#;
 
 /// The top-level keys csm adds to Kratos' parameters (DESIGN.md §2).
-pub(crate) const CSM_KEYS: [&str; 7] = [
+pub(crate) const CSM_KEYS: [&str; 8] = [
     "compatibility",
     "strict",
     "process_info",
@@ -112,6 +112,7 @@ pub(crate) const CSM_KEYS: [&str; 7] = [
     "cpp_search_parameters",
     "steps",
     "nodal_values",
+    "refit_tree",
 ];
 
 /// `python_module`s of the contact processes whose `Parameters` a ProjectParameters file can

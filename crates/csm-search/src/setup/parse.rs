@@ -253,8 +253,8 @@ fn string_list(v: &Value, key: &str) -> Result<Vec<String>, Error> {
 /// Parses a setup: the `Parameters` object of a Kratos contact process (`ALMContactProcess`,
 /// Python-path semantics and defaults) or a whole `ProjectParameters.json` (its first contact
 /// process is used), plus csm's keys `compatibility`, `strict`, `process_info`, `nodal_h`,
-/// `cpp_search_parameters` (DESIGN.md §2), `nodal_values` and `steps` (DESIGN.md §3,
-/// `docs/steps.md`). `file` names the setup in errors, which carry the
+/// `cpp_search_parameters` (DESIGN.md §2), `nodal_values`, `steps` and `refit_tree`
+/// (DESIGN.md §3, `docs/steps.md`). `file` names the setup in errors, which carry the
 /// line of the offending key.
 pub fn parse_setup(text: &str, file: &str) -> Result<SearchSetup, Error> {
     let source = SetupSource {
@@ -337,6 +337,11 @@ fn parse_inner(text: &str) -> Result<SearchSetup, Error> {
     let steps = match csm.get("steps") {
         Some(v) => steps(v)?,
         None => Vec::new(),
+    };
+    let refit_tree = if csm.contains_key("refit_tree") {
+        csm_reader.bool("refit_tree")?
+    } else {
+        true
     };
     let nodal_values = match csm.get("nodal_values") {
         Some(v) => nodal_values(v)?,
@@ -530,6 +535,7 @@ fn parse_inner(text: &str) -> Result<SearchSetup, Error> {
         cpp_search_parameters: cpp.is_some(),
         nodal_values,
         steps,
+        refit_tree,
         warnings: cx.warnings,
         source: None,
     })

@@ -242,6 +242,10 @@ pub struct SearchSetup {
     /// `"steps"`: the steps of a multi-step run, each with its rigid increments; empty for a
     /// single search step without motion.
     pub steps: Vec<StepSetup>,
+    /// `"refit_tree"` (default true): in a multi-step run the kd-tree of a pair is refitted
+    /// to the moved condition centres instead of rebuilt (same pairs; `docs/steps.md`).
+    /// `false` rebuilds it every step, as Kratos does.
+    pub refit_tree: bool,
     /// Silent fallbacks and dropped keys, in the order met.
     pub warnings: Vec<String>,
     /// The setup file's name and text, so that errors met later (an unknown part name, …)

@@ -72,6 +72,8 @@ fn build_range<T>(
     nodes[index as usize] = Node::Inner {
         axis: axis as u8,
         cut,
+        left_max: cut,
+        right_min: cut,
         left,
         right,
     };

@@ -24,7 +24,8 @@ fn lcg_cloud(n: usize, seed: u64) -> Vec<(usize, Point)> {
 }
 
 /// Walks the tree and checks: leaves are non-empty and hold at most `bucket_size` points,
-/// they cover every entry exactly once, and every split separates its subtrees.
+/// they cover every entry exactly once, and every split's bounds hold its subtrees (a built
+/// tree's bounds are its cut; a refitted tree's are the subtrees' exact extents).
 #[track_caller]
 fn check_invariants(tree: &KdTree<usize>) {
     fn walk(tree: &KdTree<usize>, node: u32, covered: &mut Vec<u32>) -> (Point, Point) {
@@ -40,15 +41,17 @@ fn check_invariants(tree: &KdTree<usize>) {
             }
             Node::Inner {
                 axis,
-                cut,
+                left_max,
+                right_min,
                 left,
                 right,
+                ..
             } => {
                 let (llo, lhi) = walk(tree, left, covered);
                 let (rlo, rhi) = walk(tree, right, covered);
                 let axis = axis as usize;
-                assert!(lhi[axis] <= cut, "left point beyond the cut");
-                assert!(rlo[axis] >= cut, "right point before the cut");
+                assert!(lhi[axis] <= left_max, "left point beyond its bound");
+                assert!(rlo[axis] >= right_min, "right point before its bound");
                 (llo.inf(&rlo), lhi.sup(&rhi))
             }
         }
@@ -197,12 +200,12 @@ fn truncation_keeps_the_first_hits_and_reports_it() {
 }
 
 #[test]
-fn refit_starts_from_the_permuted_order() {
+fn rebuild_moved_starts_from_the_permuted_order() {
     let entries = lcg_cloud(60, 99);
     let mut refitted = KdTree::new(&entries, 3).unwrap();
     let permuted: Vec<(usize, Point)> = refitted.iter().map(|(i, q)| (*i, *q)).collect();
     let rebuilt = KdTree::new(&permuted, 3).unwrap();
-    refitted.refit(|i| entries[i].1).unwrap();
+    refitted.rebuild_moved(|i| entries[i].1).unwrap();
     let order = |t: &KdTree<usize>| t.iter().map(|(i, _)| *i).collect::<Vec<_>>();
     assert_eq!(order(&refitted), order(&rebuilt));
     check_invariants(&refitted);
@@ -281,6 +284,9 @@ fn degenerate_input_gives_typed_errors() {
 
     assert!(tree.refit(|_| bad).is_err());
     assert!(tree.is_empty(), "a failed refit empties the tree");
+    let mut tree = KdTree::new(&lcg_cloud(20, 5), 4).unwrap();
+    assert!(tree.rebuild_moved(|_| bad).is_err());
+    assert!(tree.is_empty(), "a failed rebuild_moved empties the tree");
 }
 
 #[test]
@@ -289,4 +295,28 @@ fn kratos_bucket_size_is_four() {
     assert_eq!(tree.bucket_size(), 4);
     assert!(tree.n_nodes() >= 3);
     assert!(tree.bounds().is_some());
+}
+
+#[test]
+fn refit_keeps_the_tree_and_tightens_the_bounds() {
+    let entries = lcg_cloud(200, 7);
+    let mut tree = KdTree::new(&entries, 4).unwrap();
+    let order: Vec<usize> = tree.iter().map(|(i, _)| *i).collect();
+    let n_nodes = tree.n_nodes();
+    // A rigid translation and a small perturbation of each point.
+    let moved = |i: usize| {
+        let q = entries[i].1;
+        p(q.x + 10.0 + 0.01 * (i % 7) as Real, q.y - 3.0, q.z * 1.5)
+    };
+    tree.refit(moved).unwrap();
+    assert_eq!(tree.n_nodes(), n_nodes);
+    assert_eq!(tree.iter().map(|(i, _)| *i).collect::<Vec<_>>(), order);
+    check_invariants(&tree);
+    // Every point is at its new position and is found by a radius query around it.
+    let mut out = Vec::new();
+    for (i, _) in &entries {
+        tree.in_radius(&moved(*i), 1e-9, usize::MAX, &mut out)
+            .unwrap();
+        assert!(out.contains(i), "point {i} not found after the refit");
+    }
 }

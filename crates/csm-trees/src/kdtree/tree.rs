@@ -16,11 +16,15 @@ pub(crate) const KRATOS_BUCKET_SIZE: usize = 4;
 pub(crate) enum Node {
     /// A bucket: the entries `start..end` of the permuted entry arrays, in stored order.
     Leaf { start: u32, end: u32 },
-    /// A split on `axis` at `cut`: points of `left` have coordinate `<= cut`, those of `right`
-    /// `>= cut`.
+    /// A split on `axis` at `cut`: points of `left` have coordinate `<= left_max`, those of
+    /// `right` `>= right_min`. A build sets both bounds to `cut` (Kratos' tree, whose queries
+    /// compare with the cut); [`KdTree::refit`] moves them to the subtrees' extents, which may
+    /// then overlap. `cut` only decides which child a query visits first.
     Inner {
         axis: u8,
         cut: Real,
+        left_max: Real,
+        right_min: Real,
         left: u32,
         right: u32,
     },
@@ -35,7 +39,8 @@ pub(crate) enum Node {
 /// literally, including the cut-value slip), so for the same input order the tree, and hence
 /// the traversal order of the queries, is Kratos'. The entries are permuted internally, like
 /// Kratos permutes the caller's point vector; [`KdTree::refit`] keeps that permutation between
-/// builds, as Kratos does from one search step to the next (Q13).
+/// builds, as Kratos does from one search step to the next (Q13); [`KdTree::refit`] keeps
+/// the whole tree and only refits the split bounds to moved points.
 ///
 /// Queries: [`KdTree::in_radius`] (strict, `|p − c| < r`) and [`KdTree::in_box`] (inclusive),
 /// both with a result cap and a caller-owned output buffer.
@@ -98,8 +103,36 @@ impl<T: Copy> KdTree<T> {
     /// the permuted point list followed by a new build (reference §6.1, Q13).
     ///
     /// Errors: [`ErrorKind::NonFinite`] if a new position is NaN or infinite; the tree is then
+    /// left empty (every entry is dropped), so a failed rebuild can never be queried by mistake.
+    pub fn rebuild_moved(&mut self, position: impl FnMut(T) -> Point) -> Result<(), Error> {
+        self.move_points(position)?;
+        self.build_in_place();
+        Ok(())
+    }
+
+    /// Moves every stored point to `position(item)` and **keeps the tree**: the leaves, their
+    /// entries and the split axes stay, and each split's bounds are refitted to the extents of
+    /// its two subtrees along its axis (one pass over the points, no sorting). Cheaper than a
+    /// rebuild when only the coordinates changed between two search steps.
+    ///
+    /// The queries of a refitted tree find exactly the points a rebuilt tree finds (the
+    /// bounds are exact); the traversal order, and hence the order of the results and which
+    /// ones a result cap keeps, can differ from a rebuild's. A tree whose points moved far
+    /// (a split's two subtrees overlapping widely) stays correct but gets slower: rebuild it.
+    ///
+    /// Errors: [`ErrorKind::NonFinite`] if a new position is NaN or infinite; the tree is then
     /// left empty (every entry is dropped), so a failed refit can never be queried by mistake.
-    pub fn refit(&mut self, mut position: impl FnMut(T) -> Point) -> Result<(), Error> {
+    pub fn refit(&mut self, position: impl FnMut(T) -> Point) -> Result<(), Error> {
+        self.move_points(position)?;
+        if let Some(root) = self.root {
+            refit_node(&mut self.nodes, &self.points, root);
+        }
+        Ok(())
+    }
+
+    /// Sets every stored point to `position(item)`; on a non-finite position the tree is
+    /// emptied and an error returned.
+    fn move_points(&mut self, mut position: impl FnMut(T) -> Point) -> Result<(), Error> {
         for (item, p) in self.items.iter().zip(self.points.iter_mut()) {
             *p = position(*item);
         }
@@ -114,11 +147,11 @@ impl<T: Copy> KdTree<T> {
             self.root = None;
             return Err(Error::non_finite("point"));
         }
-        self.build_in_place();
         Ok(())
     }
 
-    /// Changes the bucket size used by the next [`KdTree::rebuild`] or [`KdTree::refit`].
+    /// Changes the bucket size used by the next [`KdTree::rebuild`] or
+    /// [`KdTree::rebuild_moved`] ([`KdTree::refit`] keeps the leaves).
     pub fn set_bucket_size(&mut self, bucket_size: usize) -> Result<(), Error> {
         if bucket_size == 0 {
             return Err(Error::new(ErrorKind::ZeroBucketSize));
@@ -168,6 +201,34 @@ impl<T> KdTree<T> {
     /// The bounding box of all points; `None` for an empty tree.
     pub fn bounds(&self) -> Option<Aabb> {
         Aabb::from_points(self.points.iter())
+    }
+}
+
+/// Refits the bounds of the subtree `node` to `points` and returns its extent `(min, max)`.
+fn refit_node(nodes: &mut [Node], points: &[Point], node: u32) -> (Point, Point) {
+    match nodes[node as usize] {
+        Node::Leaf { start, end } => {
+            let pts = &points[start as usize..end as usize];
+            let lo = pts.iter().fold(pts[0], |a, b| a.inf(b));
+            let hi = pts.iter().fold(pts[0], |a, b| a.sup(b));
+            (lo, hi)
+        }
+        Node::Inner {
+            axis, left, right, ..
+        } => {
+            let (llo, lhi) = refit_node(nodes, points, left);
+            let (rlo, rhi) = refit_node(nodes, points, right);
+            if let Node::Inner {
+                left_max,
+                right_min,
+                ..
+            } = &mut nodes[node as usize]
+            {
+                *left_max = lhi[axis as usize];
+                *right_min = rlo[axis as usize];
+            }
+            (llo.inf(&rlo), lhi.sup(&rhi))
+        }
     }
 }
 

@@ -183,8 +183,9 @@ proptest! {
         check_in_box(&tree, &entries, &min, &max, cap);
     }
 
-    /// `refit` (new positions, Kratos' persistent permutation) and `rebuild` (fresh order)
-    /// both answer as the oracle on the moved points.
+    /// `refit` (new positions, the tree kept), `rebuild_moved` (new positions, Kratos'
+    /// persistent permutation) and `rebuild` (fresh order) all answer as the oracle on the
+    /// moved points.
     #[test]
     fn refit_and_rebuild_match_brute_force(
         cloud in cloud(80),
@@ -204,8 +205,13 @@ proptest! {
         let moved_cloud: Vec<Point> = moved_entries.iter().map(|e| e.1).collect();
         let r = radius_of(radius, &moved_cloud, &center);
         let (min, max) = box_of(kind, &moved_cloud, &center);
-        check_in_radius(&tree, &moved_entries, &center, r, usize::MAX);
-        check_in_box(&tree, &moved_entries, &min, &max, usize::MAX);
+        check_in_radius(&tree, &moved_entries, &center, r, 7);
+        check_in_box(&tree, &moved_entries, &min, &max, 7);
+
+        let mut again = KdTree::new(&entries(&cloud), bucket).unwrap();
+        again.rebuild_moved(new_position).unwrap();
+        check_in_radius(&again, &moved_entries, &center, r, 7);
+        check_in_box(&again, &moved_entries, &min, &max, 7);
 
         tree.rebuild(&moved_entries).unwrap();
         check_in_radius(&tree, &moved_entries, &center, r, 7);

@@ -74,15 +74,17 @@ impl<T: Copy> BoxSearch<'_, T> {
             }
             Node::Inner {
                 axis,
-                cut,
+                left_max,
+                right_min,
                 left,
                 right,
+                ..
             } => {
                 let axis = axis as usize;
-                if self.aabb.mins[axis] <= cut {
+                if self.aabb.mins[axis] <= left_max {
                     self.visit(left)?;
                 }
-                if self.aabb.maxs[axis] >= cut {
+                if self.aabb.maxs[axis] >= right_min {
                     self.visit(right)?;
                 }
                 ControlFlow::Continue(())

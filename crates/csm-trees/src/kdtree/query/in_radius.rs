@@ -86,19 +86,24 @@ impl<T: Copy> RadiusSearch<'_, T> {
             Node::Inner {
                 axis,
                 cut,
+                left_max,
+                right_min,
                 left,
                 right,
             } => {
                 let axis = axis as usize;
                 let saved = residual[axis];
-                let delta = self.center[axis] - cut;
-                let (near, far) = if delta < 0.0 {
-                    (left, right)
+                let c = self.center[axis];
+                // The far child's distance along the axis: `c − cut` on a built tree (both
+                // bounds are the cut: Kratos' δ, bit for bit); a refitted tree's bounds may
+                // overlap the centre, then the far child is not pruned on this axis.
+                let (near, far, gap) = if c - cut < 0.0 {
+                    (left, right, (right_min - c).max(0.0))
                 } else {
-                    (right, left)
+                    (right, left, (c - left_max).max(0.0))
                 };
                 self.visit(near, residual)?;
-                residual[axis] = delta * delta;
+                residual[axis] = gap * gap;
                 if self.radius2 >= residual[0] + residual[1] + residual[2] {
                     self.visit(far, residual)?;
                 }
