@@ -115,31 +115,57 @@ impl Geometry<'_> {
     }
 
     fn point_local_coordinates_least_squares_absolute(&self, p: &Point) -> Result<Point, Error> {
+        self.least_squares_iterate(p, None)
+    }
+
+    /// The Gauss–Newton step's matrices at `ξ`: `J`, and `(JᵀJ)⁻¹` (unused directions padded
+    /// with the identity) or the singular-Jacobian error.
+    fn least_squares_step_matrices(&self, xi: &Point) -> (Matrix3, Result<Matrix3, Error>) {
+        let d = self.kind().local_dim();
+        let j = self.jacobian(xi);
+        let mut jtj = j.transpose() * j;
+        // Pad the unused local directions with the identity so the matrix is invertible
+        // exactly when the used block is.
+        for k in d..3 {
+            jtj[(k, k)] = 1.0;
+        }
+        let det = jtj.determinant();
+        let det_scale = self.scale().powi(2 * d as i32);
+        if det.is_nan() || det <= (DEGENERATE_REL * DEGENERATE_REL) * det_scale {
+            return (j, Err(Error::degenerate("singular Jacobian")));
+        }
+        match jtj.try_inverse() {
+            Some(inv) => (j, Ok(inv)),
+            None => (j, Err(Error::degenerate("singular Jacobian"))),
+        }
+    }
+
+    /// The generic Gauss–Newton iteration; `affine` (the step matrices of a kind whose
+    /// Jacobian does not depend on `ξ`, computed once by
+    /// [`least_squares_step_matrices`](Self::least_squares_step_matrices)) replaces their
+    /// computation in every iteration (the same bits).
+    fn least_squares_iterate(
+        &self,
+        p: &Point,
+        affine: Option<&(Matrix3, Result<Matrix3, Error>)>,
+    ) -> Result<Point, Error> {
         if !is_finite_point(p) {
             return Err(Error::new(ErrorKind::NonFinite));
         }
         let d = self.kind().local_dim();
-        let scale = self.scale();
         let mut xi = self.reference_center();
         for _ in 0..LOCAL_COORDINATES_MAX_ITERATIONS {
             let x = self.global_coordinates(&xi);
             let r: Vector = p - x;
-            let j = self.jacobian(&xi);
-            let mut jtj = j.transpose() * j;
-            // Pad the unused local directions with the identity so the matrix is invertible
-            // exactly when the used block is.
-            for k in d..3 {
-                jtj[(k, k)] = 1.0;
-            }
-            let det = jtj.determinant();
-            let det_scale = scale.powi(2 * d as i32);
-            if det.is_nan() || det <= (DEGENERATE_REL * DEGENERATE_REL) * det_scale {
-                return Err(Error::degenerate("singular Jacobian"));
-            }
-            let inv: Matrix3 = match jtj.try_inverse() {
-                Some(m) => m,
-                None => return Err(Error::degenerate("singular Jacobian")),
+            let computed;
+            let (j, inv) = match affine {
+                Some((j, inv)) => (j, inv),
+                None => {
+                    computed = self.least_squares_step_matrices(&xi);
+                    (&computed.0, &computed.1)
+                }
             };
+            let inv = inv.as_ref().map_err(Clone::clone)?;
             let mut delta = inv * (j.transpose() * r);
             for k in d..3 {
                 delta[k] = 0.0;
@@ -153,6 +179,83 @@ impl Geometry<'_> {
             }
         }
         Err(Error::new(ErrorKind::NotConverged))
+    }
+}
+
+/// A geometry's local-coordinates solver with the work that does not depend on the point done
+/// once, for many points on one geometry (the mortar integration points): the first step of
+/// Kratos' quadrilateral iteration, the constant Jacobian and its normal-matrix inverse of the
+/// linear simplices. Every answer is bit for bit the geometry's own
+/// ([`Geometry::point_local_coordinates`]; tested).
+#[derive(Clone, Debug)]
+pub struct LocalCoordinatesSolver<'a> {
+    geometry: Geometry<'a>,
+    start: SolverStart,
+}
+
+#[derive(Clone, Debug)]
+enum SolverStart {
+    Quadrilateral(QuadStart),
+    Affine(Box<(Matrix3, Result<Matrix3, Error>)>),
+    Other,
+}
+
+impl<'a> LocalCoordinatesSolver<'a> {
+    /// Prepares the solver of `geometry`.
+    pub fn new(geometry: Geometry<'a>) -> LocalCoordinatesSolver<'a> {
+        let start = match geometry.kind() {
+            GeometryKind::Quadrilateral3D4 => {
+                SolverStart::Quadrilateral(geometry.kratos_quadrilateral_start())
+            }
+            GeometryKind::Triangle3D3 | GeometryKind::Triangle2D3 | GeometryKind::Tetrahedra3D4 => {
+                let xi = geometry.reference_center();
+                SolverStart::Affine(Box::new(geometry.least_squares_step_matrices(&xi)))
+            }
+            _ => SolverStart::Other,
+        };
+        LocalCoordinatesSolver { geometry, start }
+    }
+
+    /// The geometry.
+    pub fn geometry(&self) -> &Geometry<'a> {
+        &self.geometry
+    }
+
+    /// [`Geometry::point_local_coordinates`] of `p` (same result, same errors).
+    pub fn local_coordinates(&self, p: &Point) -> Result<Point, Error> {
+        let g = &self.geometry;
+        let absolute = match &self.start {
+            SolverStart::Quadrilateral(s) => {
+                g.kratos_quadrilateral_iterate(p, Some(s))
+                    .and_then(|newton| match newton.outcome {
+                        NewtonOutcome::Converged => Ok(newton.local),
+                        NewtonOutcome::Diverged | NewtonOutcome::MaxIterations => {
+                            Err(Error::new(ErrorKind::NotConverged))
+                        }
+                    })
+            }
+            SolverStart::Affine(m) => g.least_squares_iterate(p, Some(m)),
+            SolverStart::Other => return g.point_local_coordinates(p),
+        };
+        match absolute {
+            // The rare relative retry: the geometry's own path (it repeats the absolute
+            // iteration, with the same outcome, then iterates relative to the first node).
+            Err(e) if matches!(e.kind(), ErrorKind::NotConverged) => g.point_local_coordinates(p),
+            r => r,
+        }
+    }
+
+    /// Kratos' quadrilateral iteration's last iterate whatever its outcome (the clipping's
+    /// local coordinates in Kratos mode); [`LocalCoordinatesSolver::local_coordinates`] for
+    /// other kinds.
+    pub(crate) fn kratos_last_iterate(&self, p: &Point) -> Result<Point, Error> {
+        match &self.start {
+            SolverStart::Quadrilateral(s) => self
+                .geometry
+                .kratos_quadrilateral_iterate(p, Some(s))
+                .map(|k| k.local),
+            _ => self.local_coordinates(p),
+        }
     }
 }
 
@@ -207,63 +310,55 @@ impl Geometry<'_> {
         &self,
         p: &Point,
     ) -> Result<KratosNewton, Error> {
-        if !is_finite_point(p) {
-            return Err(Error::new(ErrorKind::NonFinite));
-        }
-        debug_assert_eq!(self.kind(), GeometryKind::Quadrilateral3D4);
+        self.kratos_quadrilateral_iterate(p, None)
+    }
+
+    /// The first step of Kratos' quadrilateral iteration at `ξ = (0, 0)`, which does not
+    /// depend on the point: `x(0)`, `D(0)`, `det A(0)` and the inverse entries.
+    fn kratos_quadrilateral_start(&self) -> QuadStart {
+        let x_nodes = self.quadrilateral_nodes();
+        let (x, d) = quadrilateral_x_d(&x_nodes, 0.0, 0.0);
+        let (det, inv) = quadrilateral_inverse(&d);
+        QuadStart { x, d, det, inv }
+    }
+
+    fn quadrilateral_nodes(&self) -> [[Real; 3]; 4] {
         let pts = self.points();
-        let x_nodes: [[Real; 3]; 4] = [
+        [
             [pts[0].x, pts[0].y, pts[0].z],
             [pts[1].x, pts[1].y, pts[1].z],
             [pts[2].x, pts[2].y, pts[2].z],
             [pts[3].x, pts[3].y, pts[3].z],
-        ];
+        ]
+    }
+
+    /// Kratos' quadrilateral iteration; `start` (the same geometry's
+    /// [`kratos_quadrilateral_start`](Self::kratos_quadrilateral_start)) replaces the first
+    /// step's point-independent work by its stored values (the same bits).
+    fn kratos_quadrilateral_iterate(
+        &self,
+        p: &Point,
+        start: Option<&QuadStart>,
+    ) -> Result<KratosNewton, Error> {
+        if !is_finite_point(p) {
+            return Err(Error::new(ErrorKind::NonFinite));
+        }
+        debug_assert_eq!(self.kind(), GeometryKind::Quadrilateral3D4);
+        let x_nodes = self.quadrilateral_nodes();
         let target = [p.x, p.y, p.z];
         let det_floor = (DEGENERATE_REL * DEGENERATE_REL) * self.scale().powi(4);
         let (mut xi, mut eta) = (0.0, 0.0);
         let mut outcome = NewtonOutcome::MaxIterations;
         for k in 0..KRATOS_QUADRILATERAL_MAX_ITERATIONS {
-            let n = [
-                0.25 * (1.0 - xi) * (1.0 - eta),
-                0.25 * (1.0 + xi) * (1.0 - eta),
-                0.25 * (1.0 + xi) * (1.0 + eta),
-                0.25 * (1.0 - xi) * (1.0 + eta),
-            ];
-            let mut x = [0.0; 3];
-            for (ni, xn) in n.iter().zip(&x_nodes) {
-                for c in 0..3 {
-                    x[c] += ni * xn[c];
+            let (x, d, det, inv) = match (k, start) {
+                (0, Some(s)) => (s.x, s.d, s.det, s.inv),
+                _ => {
+                    let (x, d) = quadrilateral_x_d(&x_nodes, xi, eta);
+                    let (det, inv) = quadrilateral_inverse(&d);
+                    (x, d, det, inv)
                 }
-            }
+            };
             let r = [target[0] - x[0], target[1] - x[1], target[2] - x[2]];
-            let dn = [
-                [-0.25 * (1.0 - eta), -0.25 * (1.0 - xi)],
-                [0.25 * (1.0 - eta), -0.25 * (1.0 + xi)],
-                [0.25 * (1.0 + eta), 0.25 * (1.0 + xi)],
-                [-0.25 * (1.0 + eta), 0.25 * (1.0 - xi)],
-            ];
-            // D = X ∂N (3×2).
-            let mut d = [[0.0; 2]; 3];
-            for (c, row) in d.iter_mut().enumerate() {
-                for (j, dcj) in row.iter_mut().enumerate() {
-                    let mut t = 0.0;
-                    for (xn, dni) in x_nodes.iter().zip(&dn) {
-                        t += xn[c] * dni[j];
-                    }
-                    *dcj = t;
-                }
-            }
-            // A = DᵀD, b = Dᵀ r.
-            let mut a = [[0.0; 2]; 2];
-            for (i, row) in a.iter_mut().enumerate() {
-                for (j, aij) in row.iter_mut().enumerate() {
-                    let mut t = 0.0;
-                    for dc in &d {
-                        t += dc[i] * dc[j];
-                    }
-                    *aij = t;
-                }
-            }
             let mut b = [0.0; 2];
             for (i, bi) in b.iter_mut().enumerate() {
                 let mut t = 0.0;
@@ -272,14 +367,10 @@ impl Geometry<'_> {
                 }
                 *bi = t;
             }
-            let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
             if k == 0 && (det.is_nan() || det <= det_floor) {
                 return Err(Error::degenerate("singular Jacobian"));
             }
-            let inv00 = a[1][1] / det;
-            let inv10 = -a[1][0] / det;
-            let inv01 = -a[0][1] / det;
-            let inv11 = a[0][0] / det;
+            let [inv00, inv10, inv01, inv11] = inv;
             let d_xi = inv00 * b[0] + inv01 * b[1];
             let d_eta = inv10 * b[0] + inv11 * b[1];
             xi += d_xi;
@@ -299,6 +390,67 @@ impl Geometry<'_> {
             outcome,
         })
     }
+}
+
+/// `x(ξ, η) = Σ N_i X_i` and `D = X ∂N` (3×2) of a bilinear quadrilateral, in Kratos' order.
+fn quadrilateral_x_d(x_nodes: &[[Real; 3]; 4], xi: Real, eta: Real) -> ([Real; 3], [[Real; 2]; 3]) {
+    let n = [
+        0.25 * (1.0 - xi) * (1.0 - eta),
+        0.25 * (1.0 + xi) * (1.0 - eta),
+        0.25 * (1.0 + xi) * (1.0 + eta),
+        0.25 * (1.0 - xi) * (1.0 + eta),
+    ];
+    let mut x = [0.0; 3];
+    for (ni, xn) in n.iter().zip(x_nodes) {
+        for c in 0..3 {
+            x[c] += ni * xn[c];
+        }
+    }
+    let dn = [
+        [-0.25 * (1.0 - eta), -0.25 * (1.0 - xi)],
+        [0.25 * (1.0 - eta), -0.25 * (1.0 + xi)],
+        [0.25 * (1.0 + eta), 0.25 * (1.0 + xi)],
+        [-0.25 * (1.0 + eta), 0.25 * (1.0 - xi)],
+    ];
+    let mut d = [[0.0; 2]; 3];
+    for (c, row) in d.iter_mut().enumerate() {
+        for (j, dcj) in row.iter_mut().enumerate() {
+            let mut t = 0.0;
+            for (xn, dni) in x_nodes.iter().zip(&dn) {
+                t += xn[c] * dni[j];
+            }
+            *dcj = t;
+        }
+    }
+    (x, d)
+}
+
+/// `A = DᵀD`, `det A` and the inverse entries `[A11/det, −A10/det, −A01/det, A00/det]`.
+fn quadrilateral_inverse(d: &[[Real; 2]; 3]) -> (Real, [Real; 4]) {
+    let mut a = [[0.0; 2]; 2];
+    for (i, row) in a.iter_mut().enumerate() {
+        for (j, aij) in row.iter_mut().enumerate() {
+            let mut t = 0.0;
+            for dc in d {
+                t += dc[i] * dc[j];
+            }
+            *aij = t;
+        }
+    }
+    let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+    (
+        det,
+        [a[1][1] / det, -a[1][0] / det, -a[0][1] / det, a[0][0] / det],
+    )
+}
+
+/// The point-independent first step of Kratos' quadrilateral iteration.
+#[derive(Clone, Copy, Debug)]
+struct QuadStart {
+    x: [Real; 3],
+    d: [[Real; 2]; 3],
+    det: Real,
+    inv: [Real; 4],
 }
 
 fn finite(p: Point) -> Result<Point, Error> {

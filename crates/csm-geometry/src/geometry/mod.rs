@@ -15,5 +15,7 @@ pub use unit_normal::{FaceUnitNormals, MAX_FACE_NODES};
 mod tests;
 
 pub use geometry::Geometry;
-pub use local_coordinates::{LOCAL_COORDINATES_MAX_ITERATIONS, LOCAL_COORDINATES_TOLERANCE};
+pub use local_coordinates::{
+    LOCAL_COORDINATES_MAX_ITERATIONS, LOCAL_COORDINATES_TOLERANCE, LocalCoordinatesSolver,
+};
 pub use measure::TETRAHEDRON_LENGTH_FACTOR;

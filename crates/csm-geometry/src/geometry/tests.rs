@@ -524,3 +524,91 @@ fn global_coordinates_fast_paths_equal_the_shape_functions_bit_for_bit() {
         }
     }
 }
+
+/// The solver prepared once per geometry answers bit for bit as the geometry itself, for
+/// every kind it specialises (warped and far-translated quadrilaterals, triangles,
+/// tetrahedra), the others, and degenerate geometries (the same error).
+#[test]
+fn local_coordinates_solver_matches_the_geometry_bit_for_bit() {
+    use crate::LocalCoordinatesSolver;
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let kinds = [
+        (GeometryKind::Quadrilateral3D4, 4),
+        (GeometryKind::Triangle3D3, 3),
+        (GeometryKind::Triangle2D3, 3),
+        (GeometryKind::Tetrahedra3D4, 4),
+        (GeometryKind::Quadrilateral3D8, 8),
+    ];
+    let mut compared = 0;
+    for case in 0..400 {
+        let (kind, n) = kinds[case % kinds.len()];
+        let offset = if case % 7 == 0 { 1e6 } else { 0.0 };
+        let reference: Vec<Point> = match kind {
+            GeometryKind::Quadrilateral3D4 | GeometryKind::Quadrilateral3D8 => vec![
+                p(-1.0, -1.0, 0.0),
+                p(1.0, -1.0, 0.0),
+                p(1.0, 1.0, 0.0),
+                p(-1.0, 1.0, 0.0),
+                p(0.0, -1.0, 0.0),
+                p(1.0, 0.0, 0.0),
+                p(0.0, 1.0, 0.0),
+                p(-1.0, 0.0, 0.0),
+            ],
+            GeometryKind::Tetrahedra3D4 => vec![
+                p(0.0, 0.0, 0.0),
+                p(1.0, 0.0, 0.0),
+                p(0.0, 1.0, 0.0),
+                p(0.0, 0.0, 1.0),
+            ],
+            _ => vec![p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(0.0, 1.0, 0.0)],
+        };
+        let flat = kind == GeometryKind::Triangle2D3;
+        let mut pts: Vec<Point> = reference[..n]
+            .iter()
+            .map(|q| {
+                let z = if flat { 0.0 } else { q.z + 0.3 * next() };
+                p(q.x + 0.3 * next() + offset, q.y + 0.3 * next(), z)
+            })
+            .collect();
+        if case % 50 == 3 {
+            // Coincident nodes: a degenerate geometry.
+            pts[1] = pts[0];
+        }
+        let g = Geometry::new(kind, &pts).unwrap();
+        let solver = LocalCoordinatesSolver::new(g);
+        for _ in 0..10 {
+            let z = if flat { 0.0 } else { 0.5 * next() };
+            let x = p(2.0 * next() + offset, 2.0 * next(), z);
+            let expected = g.point_local_coordinates(&x);
+            let got = solver.local_coordinates(&x);
+            match (&expected, &got) {
+                (Ok(a), Ok(b)) => {
+                    assert_eq!(a.coords.map(f64::to_bits), b.coords.map(f64::to_bits));
+                    compared += 1;
+                }
+                (Err(a), Err(b)) => assert_eq!(a.kind(), b.kind()),
+                _ => panic!("{kind:?}: {expected:?} vs {got:?}"),
+            }
+            if kind == GeometryKind::Quadrilateral3D4 {
+                let a = g
+                    .point_local_coordinates_kratos_quadrilateral(&x)
+                    .map(|k| k.local);
+                let b = solver.kratos_last_iterate(&x);
+                match (a, b) {
+                    (Ok(a), Ok(b)) => {
+                        assert_eq!(a.coords.map(f64::to_bits), b.coords.map(f64::to_bits));
+                    }
+                    (Err(a), Err(b)) => assert_eq!(a.kind(), b.kind()),
+                    (a, b) => panic!("last iterate {a:?} vs {b:?}"),
+                }
+            }
+        }
+    }
+    assert!(compared > 3000, "only {compared} converged comparisons");
+}

@@ -8,7 +8,7 @@ use super::face::{
 };
 use crate::math::{EPS, Point, Real, Vector, cross_kratos, dot_kratos, norm_kratos};
 use crate::projection::fast_project;
-use crate::{Error, Geometry, GeometryKind};
+use crate::{Error, Geometry, GeometryKind, LocalCoordinatesSolver};
 
 /// Robust mode: relative tolerance of the clipping denominator (× |e_slave|·|e_master|).
 const ROBUST_PARALLEL_TOLERANCE: Real = 1e-14;
@@ -306,6 +306,18 @@ fn local_coordinates(geometry: &Geometry<'_>, p: &Point, mode: MortarMode) -> Re
     geometry.point_local_coordinates(p)
 }
 
+/// [`local_coordinates`] through a solver prepared once for several points.
+fn solver_local_coordinates(
+    solver: &LocalCoordinatesSolver<'_>,
+    p: &Point,
+    mode: MortarMode,
+) -> Result<Point, Error> {
+    match mode {
+        MortarMode::Kratos => solver.kratos_last_iterate(p),
+        MortarMode::Robust => solver.local_coordinates(p),
+    }
+}
+
 /// Kratos `CheckPoints`: `|a − b| < tol`.
 fn same_point(a: &Point, b: &Point, tol: Real) -> bool {
     norm_kratos(&(b - a)) < tol
@@ -394,10 +406,12 @@ fn fan_cells(
     }
     let nan = Point::new(Real::NAN, Real::NAN, Real::NAN);
     let mut master_local = Vec::with_capacity(n);
+    let master_solver = LocalCoordinatesSolver::new(*master_rot);
+    let slave_solver = LocalCoordinatesSolver::new(*slave_local_geom);
     for p in points.iter_mut() {
-        master_local.push(local_coordinates(master_rot, p, frame.mode).unwrap_or(nan));
+        master_local.push(solver_local_coordinates(&master_solver, p, frame.mode).unwrap_or(nan));
         let global = frame.unrotate(p);
-        *p = local_coordinates(slave_local_geom, &global, frame.mode).unwrap_or(nan);
+        *p = solver_local_coordinates(&slave_solver, &global, frame.mode).unwrap_or(nan);
     }
     // The rotated slave lies in a plane z = const: its unit normal is (0, 0, ±1).
     let normal = slave_rot.unit_normal(&slave_rot.reference_center())?;

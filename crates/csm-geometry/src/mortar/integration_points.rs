@@ -5,7 +5,7 @@ use super::cell::Segmentation;
 use super::face::{MortarFace, MortarMode};
 use crate::math::{EPS, Point, Real, Vector, norm_kratos};
 use crate::projection::fast_project_direction;
-use crate::{Error, ErrorKind};
+use crate::{Error, ErrorKind, LocalCoordinatesSolver};
 
 /// The mapper's degenerate-segment factor: a 2D cell shorter than `1e-6 · slave.Length()` is
 /// skipped (`SimpleMortarMapperProcess`, Q45).
@@ -110,6 +110,9 @@ pub fn integration_points(
         0.0
     };
     let mut out = Vec::new();
+    // Many points on the same two faces: the point-independent work once.
+    let slave_solver = LocalCoordinatesSolver::new(*sg);
+    let master_solver = LocalCoordinatesSolver::new(*mg);
     for (cell_idx, cell) in segmentation.cells().iter().enumerate() {
         if cell.is_bad_shape(length_tolerance) {
             continue;
@@ -130,7 +133,7 @@ pub fn integration_points(
                 x += p.coords * *nk;
             }
             let global = Point::from(x);
-            let slave_local = sg.point_local_coordinates(&global)?;
+            let slave_local = slave_solver.local_coordinates(&global)?;
             let n_s = sg.shape_functions(&slave_local);
             let mut normal = Vector::zeros();
             for (i, ni) in n_s.iter().enumerate() {
@@ -143,7 +146,7 @@ pub fn integration_points(
             normal /= norm;
             let (master_global, _) =
                 fast_project_direction(&mg.points()[0], &global, &master.normal(), &(-normal));
-            let master_local = mg.point_local_coordinates(&master_global)?;
+            let master_local = master_solver.local_coordinates(&master_global)?;
             out.push(MortarIntegrationPoint {
                 cell: cell_idx,
                 global,
