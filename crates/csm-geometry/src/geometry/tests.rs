@@ -527,7 +527,8 @@ fn global_coordinates_fast_paths_equal_the_shape_functions_bit_for_bit() {
 
 /// The solver prepared once per geometry answers bit for bit as the geometry itself, for
 /// every kind it specialises (warped and far-translated quadrilaterals, triangles,
-/// tetrahedra), the others, and degenerate geometries (the same error).
+/// tetrahedra), the others, and degenerate geometries (the same error); so does its inside
+/// test.
 #[test]
 fn local_coordinates_solver_matches_the_geometry_bit_for_bit() {
     use crate::LocalCoordinatesSolver;

@@ -91,8 +91,11 @@ impl Geometry<'_> {
                 "unit normals of a non-face geometry",
             )));
         }
+        // Five points on one face: the point-independent work of the local coordinates once
+        // (bit for bit the same local coordinates).
+        let solver = super::LocalCoordinatesSolver::new(*self);
         let at = |p: &Point| -> Result<Vector, Error> {
-            self.unit_normal(&self.point_local_coordinates(p)?)
+            self.unit_normal(&solver.local_coordinates(p)?)
         };
         let affine = matches!(
             self.kind(),

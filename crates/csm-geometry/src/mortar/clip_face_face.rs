@@ -170,10 +170,14 @@ pub(super) fn clip_face_face(
     // projected quadrilateral (Kratos' `slave_geometry_not_rotated`).
     let slave_local_geom = if slave_is_quad { &slave_flat_geom } else { sg };
 
+    // Several points on each of these faces: the point-independent work once.
+    let slave_rot_solver = LocalCoordinatesSolver::new(slave_rot_geom);
+    let master_rot_solver = LocalCoordinatesSolver::new(master_rot_geom);
+
     // 3. Master points inside the slave.
     let master_inside: Vec<bool> = master_rot[..n_master]
         .iter()
-        .map(|p| inside(&slave_rot_geom, p, mode))
+        .map(|p| inside(&slave_rot_solver, p, mode))
         .collect();
     let tol_dup = frame.duplicate_tolerance();
     let mut points: Vec<Point> = Vec::with_capacity(16);
@@ -226,7 +230,7 @@ pub(super) fn clip_face_face(
             slave_local_geom,
             sg,
             &slave_rot_geom,
-            &master_rot_geom,
+            &master_rot_solver,
         )?;
         return Ok(finish(cells));
     }
@@ -240,7 +244,7 @@ pub(super) fn clip_face_face(
     );
     let slave_inside: Vec<bool> = slave_rot[..n_slave]
         .iter()
-        .map(|p| inside(&master_rot_geom, p, mode))
+        .map(|p| inside(&master_rot_solver, p, mode))
         .collect();
     push_unique(&mut points, &slave_rot[..n_slave], &slave_inside, tol_dup);
     clipping_intersections(
@@ -257,7 +261,7 @@ pub(super) fn clip_face_face(
         slave_local_geom,
         sg,
         &slave_rot_geom,
-        &master_rot_geom,
+        &master_rot_solver,
     )?;
     Ok(finish(cells))
 }
@@ -269,11 +273,11 @@ pub(super) fn clip_face_face(
 /// quadrilateral "inside"); a degenerate geometry (NaN local coordinates in Kratos) is
 /// "outside". Robust mode: the 2D half-plane test against every edge of the (convex) polygon,
 /// with tolerance [`ROBUST_POINT_TOLERANCE`] on the normalised coordinates.
-fn inside(geometry: &Geometry<'_>, p: &Point, mode: MortarMode) -> bool {
+fn inside(solver: &LocalCoordinatesSolver<'_>, p: &Point, mode: MortarMode) -> bool {
     match mode {
-        MortarMode::Kratos => matches!(geometry.is_inside(p, EPS), Ok(Some(_))),
+        MortarMode::Kratos => matches!(solver.is_inside(p, EPS), Ok(Some(_))),
         MortarMode::Robust => {
-            let v = geometry.points();
+            let v = solver.geometry().points();
             let n = v.len();
             let mut twice_area = 0.0;
             for i in 0..n {
@@ -398,18 +402,18 @@ fn fan_cells(
     slave_local_geom: &Geometry<'_>,
     slave: &Geometry<'_>,
     slave_rot: &Geometry<'_>,
-    master_rot: &Geometry<'_>,
+    master_solver: &LocalCoordinatesSolver<'_>,
 ) -> Result<Vec<MortarCell>, Error> {
+    let master_rot = master_solver.geometry();
     let n = points.len();
     if n < 3 {
         return Ok(Vec::new());
     }
     let nan = Point::new(Real::NAN, Real::NAN, Real::NAN);
     let mut master_local = Vec::with_capacity(n);
-    let master_solver = LocalCoordinatesSolver::new(*master_rot);
     let slave_solver = LocalCoordinatesSolver::new(*slave_local_geom);
     for p in points.iter_mut() {
-        master_local.push(solver_local_coordinates(&master_solver, p, frame.mode).unwrap_or(nan));
+        master_local.push(solver_local_coordinates(master_solver, p, frame.mode).unwrap_or(nan));
         let global = frame.unrotate(p);
         *p = solver_local_coordinates(&slave_solver, &global, frame.mode).unwrap_or(nan);
     }
