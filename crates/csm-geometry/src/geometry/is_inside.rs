@@ -46,19 +46,37 @@ impl Geometry<'_> {
     /// iteration is tested whatever the outcome.
     /// Errors: degenerate geometry or non-finite input or tolerance.
     pub fn is_inside(&self, p: &Point, tolerance: Real) -> Result<Option<Point>, Error> {
+        self.inside_with(
+            tolerance,
+            || {
+                self.point_local_coordinates_kratos_quadrilateral(p)
+                    .map(|k| k.local)
+            },
+            || self.point_local_coordinates(p),
+        )
+    }
+
+    /// The inside test on local coordinates from `kratos_last_iterate` (a Quadrilateral3D4:
+    /// Kratos tests the last iterate whatever the iteration's outcome; a diverged or NaN
+    /// iterate fails the test by itself) or `local` (every other kind; not converged is
+    /// outside).
+    pub(crate) fn inside_with(
+        &self,
+        tolerance: Real,
+        kratos_last_iterate: impl FnOnce() -> Result<Point, Error>,
+        local: impl FnOnce() -> Result<Point, Error>,
+    ) -> Result<Option<Point>, Error> {
         if !tolerance.is_finite() {
             return Err(Error::new(ErrorKind::NonFinite));
         }
-        if self.kind() == GeometryKind::Quadrilateral3D4 {
-            // Kratos tests the last iterate whatever the iteration's outcome (a diverged or NaN
-            // iterate fails the test by itself).
-            let local = self.point_local_coordinates_kratos_quadrilateral(p)?.local;
-            return Ok(self.is_inside_local(&local, tolerance).then_some(local));
-        }
-        let local = match self.point_local_coordinates(p) {
-            Ok(local) => local,
-            Err(e) if *e.kind() == ErrorKind::NotConverged => return Ok(None),
-            Err(e) => return Err(e),
+        let local = if self.kind() == GeometryKind::Quadrilateral3D4 {
+            kratos_last_iterate()?
+        } else {
+            match local() {
+                Ok(local) => local,
+                Err(e) if *e.kind() == ErrorKind::NotConverged => return Ok(None),
+                Err(e) => return Err(e),
+            }
         };
         Ok(self.is_inside_local(&local, tolerance).then_some(local))
     }

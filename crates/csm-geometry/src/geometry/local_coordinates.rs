@@ -247,20 +247,11 @@ impl<'a> LocalCoordinatesSolver<'a> {
 
     /// [`Geometry::is_inside`] of `p` (same result, same errors).
     pub fn is_inside(&self, p: &Point, tolerance: Real) -> Result<Option<Point>, Error> {
-        if !tolerance.is_finite() {
-            return Err(Error::new(ErrorKind::NonFinite));
-        }
-        let g = &self.geometry;
-        if let SolverStart::Quadrilateral(s) = &self.start {
-            let local = g.kratos_quadrilateral_iterate(p, Some(s))?.local;
-            return Ok(g.is_inside_local(&local, tolerance).then_some(local));
-        }
-        let local = match self.local_coordinates(p) {
-            Ok(local) => local,
-            Err(e) if *e.kind() == ErrorKind::NotConverged => return Ok(None),
-            Err(e) => return Err(e),
-        };
-        Ok(g.is_inside_local(&local, tolerance).then_some(local))
+        self.geometry.inside_with(
+            tolerance,
+            || self.kratos_last_iterate(p),
+            || self.local_coordinates(p),
+        )
     }
 
     /// Kratos' quadrilateral iteration's last iterate whatever its outcome (the clipping's
