@@ -256,16 +256,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 || mesh.display().to_string(),
                 |n| n.to_string_lossy().into_owned(),
             );
-            let progress = Progress::start("measuring", csm::cli::progress_wanted(quiet));
-            let report = csm::cli::run_report(&model, &setup, &name, &options);
-            progress.finish();
-            let report = report?;
-            let paths = write_report(&report, &output)?;
-            if !quiet {
-                print!("{}", report.summary());
-                println!("wrote {} and {}", paths.0.display(), paths.1.display());
-            }
-            Ok(())
+            measure_report(&model, &setup, &name, &options, &output, quiet)
         }
         Command::Demo {
             faces,
@@ -316,24 +307,34 @@ fn run(cli: Cli) -> Result<(), String> {
                 );
             }
             if report {
-                let progress = Progress::start("measuring", csm::cli::progress_wanted(quiet));
-                let report = csm::cli::run_report(
-                    &pristine,
-                    &setup,
-                    "demo scene",
-                    &csm::cli::ReportOptions::default(),
-                );
-                progress.finish();
-                let report = report?;
-                let paths = write_report(&report, &output)?;
-                if !quiet {
-                    print!("{}", report.summary());
-                    println!("wrote {} and {}", paths.0.display(), paths.1.display());
-                }
+                let options = csm::cli::ReportOptions::default();
+                measure_report(&pristine, &setup, "demo scene", &options, &output, quiet)?;
             }
             Ok(())
         }
     }
+}
+
+/// Runs the error-vs-run-time report (with progress), writes it into `output` and, unless
+/// `quiet`, prints its summary.
+fn measure_report(
+    model: &csm::model::ModelPart,
+    setup: &csm::search::SearchSetup,
+    name: &str,
+    options: &csm::cli::ReportOptions,
+    output: &Path,
+    quiet: bool,
+) -> Result<(), String> {
+    let progress = Progress::start("measuring", csm::cli::progress_wanted(quiet));
+    let report = csm::cli::run_report(model, setup, name, options);
+    progress.finish();
+    let report = report?;
+    let paths = write_report(&report, output)?;
+    if !quiet {
+        print!("{}", report.summary());
+        println!("wrote {} and {}", paths.0.display(), paths.1.display());
+    }
+    Ok(())
 }
 
 /// Writes `report.md` and `report.svg` into `dir` (created if missing).

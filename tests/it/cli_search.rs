@@ -3,7 +3,7 @@
 use serde_json::Value;
 use std::collections::BTreeMap;
 
-use crate::{csm, kratos_mesh, repo_mesh, scratch};
+use crate::{csm, csm_json, kratos_mesh, repo_mesh, scratch};
 
 /// What [`check_vtu`] read from a `.vtu` file.
 #[derive(Debug)]
@@ -144,16 +144,6 @@ pub fn check_vtu(xml: &str) -> VtuSummary {
     s
 }
 
-fn search_json(args: &[&str]) -> Value {
-    let out = csm(args);
-    assert!(
-        out.status.success(),
-        "csm {args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("RESULT.json on stdout")
-}
-
 fn without_timings(mut v: Value) -> Value {
     v.as_object_mut().unwrap().remove("timings_s");
     v
@@ -239,8 +229,8 @@ fn result_json_follows_the_contract() {
 fn same_result_for_any_thread_count() {
     let mesh = repo_mesh("boxes_41_ascii.msh");
     let m = mesh.to_str().unwrap();
-    let one = search_json(&["search", m, "--threads", "1", "--quiet"]);
-    let two = search_json(&["search", m, "--threads", "2", "--quiet"]);
+    let one = csm_json(&["search", m, "--threads", "1", "--quiet"]);
+    let two = csm_json(&["search", m, "--threads", "2", "--quiet"]);
     assert_eq!(
         serde_json::to_string_pretty(&without_timings(one)).unwrap(),
         serde_json::to_string_pretty(&without_timings(two)).unwrap()
@@ -251,7 +241,7 @@ fn same_result_for_any_thread_count() {
 fn vtk_output_has_the_mesh_the_flags_and_the_pairs() {
     let mesh = repo_mesh("boxes_41_ascii.msh");
     let vtu = scratch("boxes_search.vtu");
-    let v = search_json(&[
+    let v = csm_json(&[
         "search",
         mesh.to_str().unwrap(),
         "--vtk",
@@ -325,7 +315,7 @@ fn vtk_output_has_the_mesh_the_flags_and_the_pairs() {
     }
     // Deterministic: a second run writes the same bytes.
     let again = scratch("boxes_search_again.vtu");
-    search_json(&[
+    csm_json(&[
         "search",
         mesh.to_str().unwrap(),
         "--vtk",

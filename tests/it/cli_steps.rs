@@ -3,7 +3,7 @@
 
 use serde_json::Value;
 
-use crate::{csm, repo_mesh, scratch};
+use crate::{csm, csm_json, repo_mesh, scratch};
 
 fn write_setup(name: &str, text: &str) -> std::path::PathBuf {
     let path = scratch(name);
@@ -32,13 +32,7 @@ fn search(setup: &std::path::Path, extra: &[&str]) -> Value {
         "--quiet",
     ];
     args.extend_from_slice(extra);
-    let out = csm(&args);
-    assert!(
-        out.status.success(),
-        "csm {args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("RESULT.json on stdout")
+    csm_json(&args)
 }
 
 fn without_timings(mut v: Value) -> Value {

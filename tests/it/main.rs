@@ -37,6 +37,18 @@ pub fn csm(args: &[&str]) -> Output {
         .expect("the csm binary runs")
 }
 
+/// Runs the `csm` binary with `args`, requires success and returns the RESULT.json it
+/// printed on stdout.
+pub fn csm_json(args: &[&str]) -> serde_json::Value {
+    let out = csm(args);
+    assert!(
+        out.status.success(),
+        "csm {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("RESULT.json on stdout")
+}
+
 /// A fresh scratch file path under the target directory's temp area.
 pub fn scratch(name: &str) -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("it");

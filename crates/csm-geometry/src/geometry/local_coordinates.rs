@@ -147,7 +147,7 @@ impl Geometry<'_> {
     fn least_squares_iterate(
         &self,
         p: &Point,
-        affine: Option<&(Matrix3, Result<Matrix3, Error>)>,
+        affine: Option<(&Matrix3, &Matrix3)>,
     ) -> Result<Point, Error> {
         if !is_finite_point(p) {
             return Err(Error::new(ErrorKind::NonFinite));
@@ -159,13 +159,12 @@ impl Geometry<'_> {
             let r: Vector = p - x;
             let computed;
             let (j, inv) = match affine {
-                Some((j, inv)) => (j, inv),
+                Some(m) => m,
                 None => {
                     computed = self.least_squares_step_matrices(&xi);
-                    (&computed.0, &computed.1)
+                    (&computed.0, computed.1.as_ref().map_err(Clone::clone)?)
                 }
             };
-            let inv = inv.as_ref().map_err(Clone::clone)?;
             let mut delta = inv * (j.transpose() * r);
             for k in d..3 {
                 delta[k] = 0.0;
@@ -196,7 +195,9 @@ pub struct LocalCoordinatesSolver<'a> {
 #[derive(Clone, Debug)]
 enum SolverStart {
     Quadrilateral(QuadStart),
-    Affine(Box<(Matrix3, Result<Matrix3, Error>)>),
+    /// `J` and `(JᵀJ)⁻¹`; `None` for a singular Jacobian (the geometry's own path then gives
+    /// the error).
+    Affine(Matrix3, Option<Matrix3>),
     Other,
 }
 
@@ -209,7 +210,8 @@ impl<'a> LocalCoordinatesSolver<'a> {
             }
             GeometryKind::Triangle3D3 | GeometryKind::Triangle2D3 | GeometryKind::Tetrahedra3D4 => {
                 let xi = geometry.reference_center();
-                SolverStart::Affine(Box::new(geometry.least_squares_step_matrices(&xi)))
+                let (j, inv) = geometry.least_squares_step_matrices(&xi);
+                SolverStart::Affine(j, inv.ok())
             }
             _ => SolverStart::Other,
         };
@@ -234,8 +236,10 @@ impl<'a> LocalCoordinatesSolver<'a> {
                         }
                     })
             }
-            SolverStart::Affine(m) => g.least_squares_iterate(p, Some(m)),
-            SolverStart::Other => return g.point_local_coordinates(p),
+            SolverStart::Affine(j, Some(inv)) => g.least_squares_iterate(p, Some((j, inv))),
+            SolverStart::Affine(_, None) | SolverStart::Other => {
+                return g.point_local_coordinates(p);
+            }
         };
         match absolute {
             // The rare relative retry: the geometry's own path (it repeats the absolute

@@ -405,24 +405,23 @@ fn face_unit_normals_equal_the_per_point_normals_bit_for_bit() {
     ));
 }
 
-/// The Jacobian's fast paths for the linear kinds are bit-identical to the generic
-/// accumulation over `shape_derivatives`.
-#[test]
-fn jacobian_fast_paths_equal_the_generic_rows_bit_for_bit() {
-    let quad = [
+/// Linear geometries of every kind with a fast path (warped 3D faces, flat 2D faces), and
+/// local points inside and outside their reference elements, for the bit-identity tests.
+fn linear_samples() -> (Vec<(GeometryKind, Vec<Point>)>, Vec<Point>) {
+    let quad = vec![
         p(0.1, 0.0, 0.3),
         p(1.2, 0.1, 0.2),
         p(1.1, 0.9, -0.1),
         p(-0.1, 1.3, 0.3),
     ];
-    let tri = [p(0.1, 0.2, 0.3), p(1.3, 0.1, 0.7), p(0.2, 1.1, -0.4)];
-    let tet = [
+    let tri = vec![p(0.1, 0.2, 0.3), p(1.3, 0.1, 0.7), p(0.2, 1.1, -0.4)];
+    let tet = vec![
         p(0.0, 0.1, 0.0),
         p(1.0, 0.0, 0.2),
         p(0.1, 1.0, 0.0),
         p(0.0, 0.3, 1.0),
     ];
-    let prism = [
+    let prism = vec![
         p(0.0, 0.0, 0.0),
         p(1.0, 0.1, 0.0),
         p(0.0, 1.0, 0.1),
@@ -430,14 +429,14 @@ fn jacobian_fast_paths_equal_the_generic_rows_bit_for_bit() {
         p(1.2, 0.0, 1.1),
         p(0.0, 1.1, 0.9),
     ];
-    let flat_quad = [
+    let flat_quad = vec![
         p(0.0, 0.0, 0.0),
         p(2.0, 0.0, 0.0),
         p(2.0, 1.0, 0.0),
         p(0.0, 1.5, 0.0),
     ];
-    let flat_tri = [p(0.0, 0.0, 0.0), p(2.0, 0.5, 0.0), p(0.3, 1.0, 0.0)];
-    let locals = [
+    let flat_tri = vec![p(0.0, 0.0, 0.0), p(2.0, 0.5, 0.0), p(0.3, 1.0, 0.0)];
+    let locals = vec![
         p(0.0, 0.0, 0.0),
         p(0.3, -0.7, 0.0),
         p(-1.0, 1.0, 0.0),
@@ -445,14 +444,24 @@ fn jacobian_fast_paths_equal_the_generic_rows_bit_for_bit() {
         p(-0.0, -0.0, 0.5),
         p(1e-17, -0.3333333333333333, 0.1),
     ];
-    for (kind, points) in [
-        (GeometryKind::Quadrilateral3D4, &quad[..]),
-        (GeometryKind::Quadrilateral2D4, &flat_quad[..]),
-        (GeometryKind::Triangle3D3, &tri[..]),
-        (GeometryKind::Triangle2D3, &flat_tri[..]),
-        (GeometryKind::Tetrahedra3D4, &tet[..]),
-        (GeometryKind::Prism3D6, &prism[..]),
-    ] {
+    let geometries = vec![
+        (GeometryKind::Quadrilateral3D4, quad),
+        (GeometryKind::Quadrilateral2D4, flat_quad),
+        (GeometryKind::Triangle3D3, tri),
+        (GeometryKind::Triangle2D3, flat_tri),
+        (GeometryKind::Tetrahedra3D4, tet),
+        (GeometryKind::Prism3D6, prism),
+    ];
+    (geometries, locals)
+}
+
+/// The Jacobian's fast paths for the linear kinds are bit-identical to the generic
+/// accumulation over `shape_derivatives`.
+#[test]
+fn jacobian_fast_paths_equal_the_generic_rows_bit_for_bit() {
+    let (geometries, locals) = linear_samples();
+    for (kind, points) in &geometries {
+        let (kind, points) = (*kind, &points[..]);
         let g = Geometry::new(kind, points).unwrap();
         for local in &locals {
             let mut generic = crate::math::Matrix3::zeros();
@@ -475,43 +484,19 @@ fn jacobian_fast_paths_equal_the_generic_rows_bit_for_bit() {
 /// over `shape_functions`.
 #[test]
 fn global_coordinates_fast_paths_equal_the_shape_functions_bit_for_bit() {
-    let quad = [
-        p(0.1, 0.0, 0.3),
-        p(1.2, 0.1, 0.2),
-        p(1.1, 0.9, -0.1),
-        p(-0.1, 1.3, 0.3),
-    ];
-    let tri = [p(0.1, 0.2, 0.3), p(1.3, 0.1, 0.7), p(0.2, 1.1, -0.4)];
-    let tet = [
-        p(0.0, 0.1, 0.0),
-        p(1.0, 0.0, 0.2),
-        p(0.1, 1.0, 0.0),
-        p(0.0, 0.3, 1.0),
-    ];
-    let prism = [
-        p(0.0, 0.0, 0.0),
-        p(1.0, 0.1, 0.0),
-        p(0.0, 1.0, 0.1),
-        p(0.1, 0.0, 1.0),
-        p(1.2, 0.0, 1.1),
-        p(0.0, 1.1, 0.9),
-    ];
-    let locals = [
-        p(0.0, 0.0, 0.0),
-        p(0.3, -0.7, 0.0),
-        p(-1.0, 1.0, 0.0),
-        p(0.25, 0.25, 0.25),
-        p(-0.0, -0.0, 0.5),
-        p(1e-17, -0.3333333333333333, 0.1),
-        p(0.1, 0.2, 0.30000000000000004),
-    ];
-    for (kind, points) in [
-        (GeometryKind::Quadrilateral3D4, &quad[..]),
-        (GeometryKind::Triangle3D3, &tri[..]),
-        (GeometryKind::Tetrahedra3D4, &tet[..]),
-        (GeometryKind::Prism3D6, &prism[..]),
-    ] {
-        let g = Geometry::new(kind, points).unwrap();
+    let (geometries, mut locals) = linear_samples();
+    locals.push(p(0.1, 0.2, 0.30000000000000004));
+    let three_d = geometries.iter().filter(|(kind, _)| {
+        matches!(
+            kind,
+            GeometryKind::Quadrilateral3D4
+                | GeometryKind::Triangle3D3
+                | GeometryKind::Tetrahedra3D4
+                | GeometryKind::Prism3D6
+        )
+    });
+    for (kind, points) in three_d {
+        let g = Geometry::new(*kind, points).unwrap();
         for local in &locals {
             let mut generic = Vector::zeros();
             for (ni, q) in g.shape_functions(local).iter().zip(points) {

@@ -91,16 +91,20 @@ impl Geometry<'_> {
                 "unit normals of a non-face geometry",
             )));
         }
-        // Five points on one face: the point-independent work of the local coordinates once
-        // (bit for bit the same local coordinates).
-        let solver = super::LocalCoordinatesSolver::new(*self);
-        let at = |p: &Point| -> Result<Vector, Error> {
-            self.unit_normal(&solver.local_coordinates(p)?)
-        };
         let affine = matches!(
             self.kind(),
             crate::GeometryKind::Line2D2 | crate::GeometryKind::Triangle3D3
         );
+        // Several points on one face: the point-independent work of the local coordinates
+        // once (bit for bit the same local coordinates); affine kinds need none.
+        let solver = (!affine).then(|| super::LocalCoordinatesSolver::new(*self));
+        let at = |p: &Point| -> Result<Vector, Error> {
+            let local = match &solver {
+                Some(solver) => solver.local_coordinates(p)?,
+                None => self.point_local_coordinates(p)?,
+            };
+            self.unit_normal(&local)
+        };
         // Affine: the normal at any local point is the normal (the local coordinates of the
         // centre are not needed); a non-finite centre is still refused.
         let centre = if affine {

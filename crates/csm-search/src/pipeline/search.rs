@@ -402,12 +402,7 @@ impl ContactSearch {
         };
         self.steps_run += 1;
         self.reset_marker(model);
-        let run = RunMode {
-            compatibility: self.setup.compatibility,
-            frictional: self.setup.contact_type.is_frictional(),
-            python_path: !self.setup.cpp_search_parameters,
-            keep_tree: self.setup.refit_tree && self.setup.steps.len() > 1,
-        };
+        let run = RunMode::of(&self.setup);
         let pair = &mut self.pairs[i];
         let Some(pair_plan) = self.plan.pairs.get(&key) else {
             return Err(ErrorKind::Model(format!("pair {key}: no plan")).into());
@@ -478,12 +473,7 @@ impl ContactSearch {
         if searched {
             self.reset_marker(model);
             for i in 0..self.pairs.len() {
-                let run = RunMode {
-                    compatibility: self.setup.compatibility,
-                    frictional: self.setup.contact_type.is_frictional(),
-                    python_path: !self.setup.cpp_search_parameters,
-                    keep_tree: self.setup.refit_tree && self.setup.steps.len() > 1,
-                };
+                let run = RunMode::of(&self.setup);
                 let pair = &mut self.pairs[i];
                 // Every key of the setup has its pair plan (both come from `setup.pairs`).
                 let Some(pair_plan) = self.plan.pairs.get_mut(&pair.key) else {
@@ -1110,6 +1100,17 @@ struct RunMode {
     python_path: bool,
     /// The setup has more than one step and `refit_tree`: the kd-tree is kept and refitted.
     keep_tree: bool,
+}
+
+impl RunMode {
+    fn of(setup: &SearchSetup) -> RunMode {
+        RunMode {
+            compatibility: setup.compatibility,
+            frictional: setup.contact_type.is_frictional(),
+            python_path: !setup.cpp_search_parameters,
+            keep_tree: setup.refit_tree && setup.steps.len() > 1,
+        }
+    }
 }
 
 /// Swaps the roles of the conditions of `sub` for an inverted octree search: SLAVE := not
