@@ -165,37 +165,31 @@ pub(crate) fn mean_normals(
     conditions: &[ConditionIdx],
 ) -> Result<(), Error> {
     model.nodal_data_mut().add_vector(VectorVar::Normal);
-    let mut sums: Vec<(NodeIdx, Vector)> = Vec::new();
-    let mut index = std::collections::HashMap::new();
     let faces = csm_model::face_unit_normals(model, conditions).map_err(|e| match e.kind() {
         csm_model::ErrorKind::Geometry { id, source, .. } => {
             Error::condition("unit normal", *id, source)
         }
         _ => Error::message_only(e.to_string()),
     })?;
-    let mut cond_normals = Vec::with_capacity(faces.len());
-    for (c, normals) in faces {
-        cond_normals.push((c, normals.centre));
-        for (n, v) in model
-            .conditions()
-            .nodes(c.index())
-            .iter()
-            .zip(normals.nodes())
-        {
-            let slot = *index.entry(*n).or_insert_with(|| {
-                sums.push((*n, Vector::zeros()));
-                sums.len() - 1
-            });
-            sums[slot].1 += v;
+    // Dense sums; every touched node is written once, so the order of the writes does not
+    // matter (the sums are taken in the order of `conditions`).
+    let n_nodes = model.nodes().len();
+    let mut sums = vec![Vector::zeros(); n_nodes];
+    let mut touched = vec![false; n_nodes];
+    for face in faces.iter() {
+        for (k, n) in model.conditions().nodes(face.condition.index()).iter().enumerate() {
+            sums[n.index()] += face.node(k);
+            touched[n.index()] = true;
         }
     }
-    for (c, n) in cond_normals {
-        model.condition_normals_mut()[c.index()] = n;
+    let condition_normals = model.condition_normals_mut();
+    for face in faces.iter() {
+        condition_normals[face.condition.index()] = face.centre;
     }
     if let Some(col) = model.nodal_data_mut().vector_mut(VectorVar::Normal, 0) {
-        for (n, v) in sums {
+        for (i, v) in sums.into_iter().enumerate().filter(|&(i, _)| touched[i]) {
             let norm = norm_kratos(&v);
-            col[n.index()] = if norm > EPS { v / norm } else { v };
+            col[i] = if norm > EPS { v / norm } else { v };
         }
     }
     Ok(())

@@ -15,7 +15,7 @@ pub struct Nodes {
     pub(crate) initial: Vec<Point>,
     pub(crate) coordinates: Vec<Point>,
     pub(crate) flags: Vec<Flags>,
-    pub(crate) by_id: HashMap<u32, NodeIdx>,
+    pub(crate) by_id: IdIndex,
 }
 
 impl Nodes {
@@ -61,7 +61,7 @@ impl Nodes {
 
     /// The dense index of the node with external id `id`.
     pub fn index_of(&self, id: u32) -> Option<NodeIdx> {
-        self.by_id.get(&id).copied()
+        self.by_id.get(id).map(NodeIdx)
     }
 }
 
@@ -77,7 +77,7 @@ pub struct Entities {
     pub(crate) connectivity: Vec<NodeIdx>,
     pub(crate) properties: Vec<PropertiesId>,
     pub(crate) flags: Vec<Flags>,
-    pub(crate) by_id: HashMap<u32, u32>,
+    pub(crate) by_id: IdIndex,
 }
 
 impl Entities {
@@ -164,13 +164,12 @@ impl Entities {
         if ids.len() != self.ids.len() {
             return false;
         }
-        let by_id: HashMap<u32, u32> = ids
-            .iter()
-            .enumerate()
-            .map(|(i, &id)| (id, i as u32))
-            .collect();
-        if by_id.len() != ids.len() {
-            return false;
+        let mut by_id = IdIndex::default();
+        for (i, &id) in ids.iter().enumerate() {
+            if by_id.contains(id) {
+                return false;
+            }
+            by_id.insert(id, i as u32);
         }
         self.ids.copy_from_slice(ids);
         self.by_id = by_id;
@@ -199,7 +198,7 @@ impl Entities {
 
     /// The dense index of the entity with external id `id`.
     pub fn index_of(&self, id: u32) -> Option<usize> {
-        self.by_id.get(&id).map(|&i| i as usize)
+        self.by_id.get(id).map(|i| i as usize)
     }
 
     /// Dense indices in Kratos' container order: ascending external id.
@@ -237,5 +236,47 @@ impl Entities {
         self.offsets.push(self.connectivity.len() as u32);
         self.properties.push(properties);
         self.flags.push(Flags::new());
+    }
+}
+
+/// External id → dense index. Ids of a mesh are mostly contiguous from 1, so they are kept in
+/// a dense table (id → index + 1, 0 for none) while it stays within twice the entry count;
+/// ids beyond it go to a hash map.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct IdIndex {
+    dense: Vec<u32>,
+    sparse: HashMap<u32, u32>,
+    len: usize,
+}
+
+impl IdIndex {
+    /// The slack of the dense table beyond twice the entry count.
+    const DENSE_SLACK: usize = 1024;
+
+    pub(crate) fn get(&self, id: u32) -> Option<u32> {
+        match self.dense.get(id as usize) {
+            Some(&v) if v != 0 => Some(v - 1),
+            _ if self.sparse.is_empty() => None,
+            _ => self.sparse.get(&id).copied(),
+        }
+    }
+
+    pub(crate) fn contains(&self, id: u32) -> bool {
+        self.get(id).is_some()
+    }
+
+    /// Adds `id → index`; `id` must not be present.
+    pub(crate) fn insert(&mut self, id: u32, index: u32) {
+        debug_assert!(!self.contains(id));
+        self.len += 1;
+        let i = id as usize;
+        if i < self.dense.len() {
+            self.dense[i] = index + 1;
+        } else if i < 2 * self.len + Self::DENSE_SLACK {
+            self.dense.resize(i + 1, 0);
+            self.dense[i] = index + 1;
+        } else {
+            self.sparse.insert(id, index);
+        }
     }
 }

@@ -42,7 +42,9 @@ pub use index_map::IndexMap;
 pub use model_part::ModelPart;
 pub use nodal_data::{NodalData, ScalarVar, VectorVar};
 pub use nodal_h::{NodalHMode, assign_nodal_h, compute_nodal_h};
-pub use normals::{NormalsMode, compute_unit_normals, face_unit_normals};
+pub use normals::{
+    FaceNormals, FaceNormalsRef, NormalsMode, compute_unit_normals, face_unit_normals,
+};
 pub use parts::SubModelPart;
 pub use process_info::ProcessInfo;
 pub use properties::{Properties, PropertyValue};

@@ -31,6 +31,9 @@ pub struct ModelPart {
     condition_normals: Vec<Vector>,
 }
 
+/// The most nodes of an element or condition kind (Hexahedra3D27).
+const MAX_ENTITY_NODES: usize = 27;
+
 impl ModelPart {
     /// An empty model part called `name`.
     pub fn new(name: &str) -> ModelPart {
@@ -129,7 +132,7 @@ impl ModelPart {
     /// Adds a node with external id `id`. Errors on a duplicate id or a non-finite
     /// coordinate.
     pub fn add_node(&mut self, id: NodeId, position: Point) -> Result<NodeIdx, Error> {
-        if self.nodes.by_id.contains_key(&id.0) {
+        if self.nodes.by_id.contains(id.0) {
             return Err(ErrorKind::DuplicateId {
                 entity: EntityKind::Node,
                 id: id.0,
@@ -140,7 +143,7 @@ impl ModelPart {
             return Err(ErrorKind::NonFiniteCoordinate { node: id.0 }.into());
         }
         let idx = NodeIdx(self.nodes.ids.len() as u32);
-        self.nodes.by_id.insert(id.0, idx);
+        self.nodes.by_id.insert(id.0, idx.0);
         self.nodes.ids.push(id.0);
         self.nodes.initial.push(position);
         self.nodes.coordinates.push(position);
@@ -160,15 +163,16 @@ impl ModelPart {
         properties: PropertiesId,
     ) -> Result<ElementIdx, Error> {
         let idx = ElementIdx(self.elements.len() as u32);
-        let conn = self.resolve(EntityKind::Element, id.0, kind, nodes)?;
-        if self.elements.by_id.contains_key(&id.0) {
+        let mut buffer = [NodeIdx(0); MAX_ENTITY_NODES];
+        let conn = self.resolve(EntityKind::Element, id.0, kind, nodes, &mut buffer)?;
+        if self.elements.by_id.contains(id.0) {
             return Err(ErrorKind::DuplicateId {
                 entity: EntityKind::Element,
                 id: id.0,
             }
             .into());
         }
-        self.elements.push(id.0, kind, name, &conn, properties);
+        self.elements.push(id.0, kind, name, conn, properties);
         Ok(idx)
     }
 
@@ -182,28 +186,31 @@ impl ModelPart {
         properties: PropertiesId,
     ) -> Result<ConditionIdx, Error> {
         let idx = ConditionIdx(self.conditions.len() as u32);
-        let conn = self.resolve(EntityKind::Condition, id.0, kind, nodes)?;
-        if self.conditions.by_id.contains_key(&id.0) {
+        let mut buffer = [NodeIdx(0); MAX_ENTITY_NODES];
+        let conn = self.resolve(EntityKind::Condition, id.0, kind, nodes, &mut buffer)?;
+        if self.conditions.by_id.contains(id.0) {
             return Err(ErrorKind::DuplicateId {
                 entity: EntityKind::Condition,
                 id: id.0,
             }
             .into());
         }
-        self.conditions.push(id.0, kind, name, &conn, properties);
+        self.conditions.push(id.0, kind, name, conn, properties);
         self.index_maps.push(IndexMap::new());
         self.condition_normals.push(Vector::zeros());
         Ok(idx)
     }
 
-    fn resolve(
+    /// The dense indices of `nodes`, into `out` (the first `nodes.len()` entries).
+    fn resolve<'b>(
         &self,
         entity: EntityKind,
         id: u32,
         kind: GeometryKind,
         nodes: &[NodeId],
-    ) -> Result<Vec<NodeIdx>, Error> {
-        if nodes.len() != kind.n_nodes() {
+        out: &'b mut [NodeIdx; MAX_ENTITY_NODES],
+    ) -> Result<&'b [NodeIdx], Error> {
+        if nodes.len() != kind.n_nodes() || nodes.len() > MAX_ENTITY_NODES {
             return Err(ErrorKind::WrongNodeCount {
                 entity,
                 id,
@@ -212,18 +219,16 @@ impl ModelPart {
             }
             .into());
         }
-        nodes
-            .iter()
-            .map(|n| {
-                self.nodes.index_of(n.0).ok_or_else(|| {
-                    Error::from(ErrorKind::MissingNode {
-                        entity,
-                        id,
-                        node: n.0,
-                    })
+        for (slot, n) in out.iter_mut().zip(nodes) {
+            *slot = self.nodes.index_of(n.0).ok_or_else(|| {
+                Error::from(ErrorKind::MissingNode {
+                    entity,
+                    id,
+                    node: n.0,
                 })
-            })
-            .collect()
+            })?;
+        }
+        Ok(&out[..nodes.len()])
     }
 
     /// Adds a properties block; errors if its id exists.

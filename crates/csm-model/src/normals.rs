@@ -49,6 +49,79 @@ fn geometry_error(c: ConditionIdx, model: &ModelPart, source: csm_geometry::Erro
     .into()
 }
 
+/// The unit normals of many faces ([`face_unit_normals`]), stored flat: one centre normal per
+/// face and the nodal normals only of faces whose normal varies over the face (affine faces —
+/// Line2D2, Triangle3D3 — have one normal; [`FaceNormalsRef::node`] returns it for every node).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FaceNormals {
+    conditions: Vec<ConditionIdx>,
+    centres: Vec<Vector>,
+    /// Per face, the end of its nodal normals in `nodes` (the start is the previous end).
+    ends: Vec<u32>,
+    nodes: Vec<Vector>,
+}
+
+/// One face of a [`FaceNormals`] table.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaceNormalsRef<'a> {
+    /// The condition.
+    pub condition: ConditionIdx,
+    /// The unit normal at the local coordinates of the centre.
+    pub centre: Vector,
+    nodes: &'a [Vector],
+}
+
+impl FaceNormalsRef<'_> {
+    /// The unit normal at the local coordinates of the face's node `k` (node order).
+    pub fn node(&self, k: usize) -> Vector {
+        self.nodes.get(k).copied().unwrap_or(self.centre)
+    }
+}
+
+impl FaceNormals {
+    /// The number of faces.
+    pub fn len(&self) -> usize {
+        self.conditions.len()
+    }
+
+    /// Whether the table has no face.
+    pub fn is_empty(&self) -> bool {
+        self.conditions.is_empty()
+    }
+
+    /// The faces, in the order they were given to [`face_unit_normals`].
+    pub fn iter(&self) -> impl Iterator<Item = FaceNormalsRef<'_>> + '_ {
+        (0..self.conditions.len()).map(move |i| {
+            let start = if i == 0 { 0 } else { self.ends[i - 1] as usize };
+            FaceNormalsRef {
+                condition: self.conditions[i],
+                centre: self.centres[i],
+                nodes: &self.nodes[start..self.ends[i] as usize],
+            }
+        })
+    }
+
+    fn push(&mut self, c: ConditionIdx, normals: &FaceUnitNormals, affine: bool) {
+        self.conditions.push(c);
+        self.centres.push(normals.centre);
+        if !affine {
+            self.nodes.extend_from_slice(normals.nodes());
+        }
+        self.ends.push(self.nodes.len() as u32);
+    }
+
+    fn append(&mut self, other: FaceNormals) {
+        let base = self.nodes.len() as u32;
+        self.conditions.extend(other.conditions);
+        self.centres.extend(other.centres);
+        self.ends.extend(other.ends.into_iter().map(|e| e + base));
+        self.nodes.extend(other.nodes);
+    }
+}
+
+/// Faces per parallel task of [`face_unit_normals`].
+const FACES_PER_TASK: usize = 4096;
+
 /// The unit normals at the centre and at the nodes ([`Geometry::face_unit_normals`]) of every
 /// face condition of `conditions` (other kinds are skipped), in the order given, computed in
 /// parallel. Errors: the first condition (in the order given) whose normals cannot be
@@ -56,23 +129,32 @@ fn geometry_error(c: ConditionIdx, model: &ModelPart, source: csm_geometry::Erro
 pub fn face_unit_normals(
     model: &ModelPart,
     conditions: &[ConditionIdx],
-) -> Result<Vec<(ConditionIdx, FaceUnitNormals)>, Error> {
-    let per_face: Vec<Option<Result<FaceUnitNormals, csm_geometry::Error>>> = conditions
-        .par_iter()
-        .map_init(Vec::<Point>::new, |points, &c| {
-            let kind: GeometryKind = model.conditions().kind(c.index());
-            if !kind.is_face() {
-                return None;
+) -> Result<FaceNormals, Error> {
+    let chunks: Vec<Result<FaceNormals, Error>> = conditions
+        .par_chunks(FACES_PER_TASK)
+        .map(|chunk| {
+            let mut table = FaceNormals::default();
+            let mut points = Vec::<Point>::new();
+            for &c in chunk {
+                let kind: GeometryKind = model.conditions().kind(c.index());
+                if !kind.is_face() {
+                    continue;
+                }
+                model.gather_points(model.conditions().nodes(c.index()), &mut points);
+                let normals = Geometry::new(kind, &points)
+                    .and_then(|g| g.face_unit_normals())
+                    .map_err(|e| geometry_error(c, model, e))?;
+                let affine = matches!(kind, GeometryKind::Line2D2 | GeometryKind::Triangle3D3);
+                table.push(c, &normals, affine);
             }
-            model.gather_points(model.conditions().nodes(c.index()), points);
-            Some(Geometry::new(kind, points).and_then(|g| g.face_unit_normals()))
+            Ok(table)
         })
         .collect();
-    conditions
-        .iter()
-        .zip(per_face)
-        .filter_map(|(&c, r)| r.map(|r| r.map(|n| (c, n)).map_err(|e| geometry_error(c, model, e))))
-        .collect()
+    let mut table = FaceNormals::default();
+    for chunk in chunks {
+        table.append(chunk?);
+    }
+    Ok(table)
 }
 
 /// Computes the unit normals of the conditions of `part` (all conditions when `None`) and
@@ -91,12 +173,10 @@ pub fn compute_unit_normals(
     // The per-face normals in parallel; the sums below in condition order, as Kratos' serial
     // loop adds them (identical results for any thread count).
     let faces = face_unit_normals(model, &conditions)?;
-    let mut cond_normals = Vec::with_capacity(faces.len());
-    for (c, normals) in faces {
-        cond_normals.push((c, normals.centre));
-        let nodes = model.conditions().nodes(c.index());
-        for (node, n) in nodes.iter().zip(normals.nodes()) {
-            nodal[node.index()] += n;
+    for face in faces.iter() {
+        let nodes = model.conditions().nodes(face.condition.index());
+        for (k, node) in nodes.iter().enumerate() {
+            nodal[node.index()] += face.node(k);
             touched[node.index()] = true;
         }
     }
@@ -110,10 +190,10 @@ pub fn compute_unit_normals(
         Ok(())
     };
     let result = match mode {
-        NormalsMode::Kratos => cond_normals.iter().try_for_each(|(c, _)| {
+        NormalsMode::Kratos => faces.iter().try_for_each(|face| {
             model
                 .conditions()
-                .nodes(c.index())
+                .nodes(face.condition.index())
                 .iter()
                 .try_for_each(|n| normalise(n.index()))
         }),
@@ -134,8 +214,9 @@ pub fn compute_unit_normals(
         }
         .into());
     }
-    for (c, n) in cond_normals {
-        model.condition_normals_mut()[c.index()] = n;
+    let condition_normals = model.condition_normals_mut();
+    for face in faces.iter() {
+        condition_normals[face.condition.index()] = face.centre;
     }
     // Step 1 resets NORMAL on every node of the part's conditions; the face nodes then get
     // their normalised sums.

@@ -42,6 +42,7 @@ pub use setup::{
 pub use stages::*;
 mod pipeline;
 mod plan;
+mod trace;
 mod truth;
 pub use pipeline::*;
 pub use plan::*;

@@ -105,6 +105,7 @@ impl ContactSearch {
     ) -> Result<ContactSearch, Error> {
         // What runs; every decision below that the plan makes is taken from it.
         let plan = Plan::decide(model, setup)?;
+        crate::trace::start();
         let python_path = !setup.cpp_search_parameters;
         let mut setup = setup.clone();
         let mut warnings = setup.warnings.clone();
@@ -154,6 +155,7 @@ impl ContactSearch {
             }
         };
         emulate_python_state(model, &setup, &plan.variables);
+        crate::trace::mark("interface");
         // Stage 2 on the whole model (Python calls NormalCheckProcess on the main part).
         let normal_settings = NormalCheckSettings {
             length_proportion: setup.normal_check_proportion,
@@ -169,6 +171,7 @@ impl ContactSearch {
             }
             Decision::LeftOut(_) => {}
         }
+        crate::trace::mark("normal check");
         if plan.master_slave_from_nodes.is_used() {
             master_slave_from_nodes(model, parts.contact);
         }
@@ -180,6 +183,7 @@ impl ContactSearch {
             }
             None => assign_nodal_h(model, None, NodalHMode::Kratos),
         }
+        crate::trace::mark("nodal h");
         apply_nodal_values(model, &setup.nodal_values)?;
         check_step_parts(model, &setup.steps)?;
         if plan.adapt_search.is_used() {
@@ -768,6 +772,7 @@ fn update_mortar_conditions(
 ) -> Result<Vec<String>, Error> {
     let compatibility = run.compatibility;
     let mut run_warnings = Vec::new();
+    crate::trace::start();
     let p = pair.params.clone();
     let inverted = p.inverted_search;
     let sub = pair.sub;
@@ -793,6 +798,7 @@ fn update_mortar_conditions(
         Compatibility::Robust => NormalsMode::Once,
     };
     compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
+    crate::trace::mark("unit normals");
     // 3. The running id of created pairs: after the largest condition id of the root (the
     // paired conditions of earlier steps included).
     let max_paired = pair.paired.iter().map(|pc| pc.id.get()).max().unwrap_or(0);
@@ -846,6 +852,7 @@ fn update_mortar_conditions(
         )?;
     }
     finish_pairs(model, pair, created, condition_id);
+    crate::trace::mark("pairing");
     // 8. SetOriginDestinationModelParts: both sides must have conditions.
     let (mut n_slave, mut n_master) = (0, 0);
     for c in model.part(sub).conditions() {
@@ -923,6 +930,7 @@ fn check_pairing(
         dim,
     };
     let report = act::normal_gap_process(model, sub, &settings).map_err(activation_error)?;
+    crate::trace::mark("mapping");
     let ids = model.conditions().ids();
     pair.pruned = report
         .removed
@@ -947,6 +955,7 @@ fn check_pairing(
         Compatibility::Robust => NormalsMode::Once,
     };
     compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
+    crate::trace::mark("unit normals");
     // CreateAuxiliaryConditions: slave side, entries without a paired condition.
     if p.create_auxiliar_conditions {
         let mut created = Vec::new();
@@ -964,6 +973,7 @@ fn check_pairing(
         }
         finish_pairs(model, pair, created, condition_id);
     }
+    crate::trace::mark("auxiliary conditions");
     // ComputeWeightedReaction: only the Advanced activation reads WEIGHTED_GAP.
     if plan.weighted_gap.is_used() {
         let paired: Vec<_> = pair.paired.iter().map(|pc| (pc.slave, pc.master)).collect();
@@ -974,6 +984,7 @@ fn check_pairing(
             pc.isolated = isolated;
         }
     }
+    crate::trace::mark("weighted gap");
     let rule = if p.simple_search {
         act::ActivationRule::Simple
     } else {
@@ -1013,6 +1024,7 @@ fn check_pairing(
             multiplier,
         },
     );
+    crate::trace::mark("activation");
     Ok(report.warnings)
 }
 
@@ -1191,6 +1203,7 @@ fn kdtree_search(
             )
         })
         .collect();
+    crate::trace::mark("master centres");
     let tree_error = |e: csm_trees::Error| {
         Error::from(ErrorKind::Model(format!(
             "kd-tree of the master conditions: {e}"
@@ -1214,6 +1227,7 @@ fn kdtree_search(
             false,
         ),
     };
+    crate::trace::mark("kd-tree");
     // Read in place: the model is only read until the serial pairing below.
     let h_col = model
         .nodal_data()
@@ -1254,6 +1268,7 @@ fn kdtree_search(
             master_bvs[c as usize] = Some(bv);
         }
     }
+    crate::trace::mark("master boxes");
     let mut master_kdops: Vec<Option<Kdop18>> = Vec::new();
     if with_kdop {
         master_kdops = vec![None; model.conditions().len()];
@@ -1290,6 +1305,7 @@ fn kdtree_search(
         .number("ACTIVE_CHECK_FACTOR")
         .unwrap_or(0.0);
     let candidates: Vec<Result<Vec<Candidate>, Error>> = {
+    crate::trace::mark("slave list");
         let cx = QueryContext {
             model,
             params: p,
@@ -1323,6 +1339,7 @@ fn kdtree_search(
             (found, truncated.into_inner())
         };
         let (mut in_curve_order, truncated) = query_all(&tree);
+    crate::trace::mark("slave queries");
         if refitted && truncated {
             // A capped query keeps the first masters in traversal order: take a rebuilt
             // tree's order, as a step without a kept tree does.
@@ -1339,6 +1356,7 @@ fn kdtree_search(
             .map(|r| r.expect("every slave was queried"))
             .collect()
     };
+    crate::trace::mark("query results");
     if keep_tree {
         pair.tree = Some(KeptTree { ids, tree });
     }
