@@ -177,7 +177,12 @@ pub(crate) fn mean_normals(
     let mut sums = vec![Vector::zeros(); n_nodes];
     let mut touched = vec![false; n_nodes];
     for face in faces.iter() {
-        for (k, n) in model.conditions().nodes(face.condition.index()).iter().enumerate() {
+        for (k, n) in model
+            .conditions()
+            .nodes(face.condition.index())
+            .iter()
+            .enumerate()
+        {
             sums[n.index()] += face.node(k);
             touched[n.index()] = true;
         }

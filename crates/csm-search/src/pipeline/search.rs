@@ -1305,7 +1305,7 @@ fn kdtree_search(
         .number("ACTIVE_CHECK_FACTOR")
         .unwrap_or(0.0);
     let candidates: Vec<Result<Vec<Candidate>, Error>> = {
-    crate::trace::mark("slave list");
+        crate::trace::mark("slave list");
         let cx = QueryContext {
             model,
             params: p,
@@ -1339,7 +1339,7 @@ fn kdtree_search(
             (found, truncated.into_inner())
         };
         let (mut in_curve_order, truncated) = query_all(&tree);
-    crate::trace::mark("slave queries");
+        crate::trace::mark("slave queries");
         if refitted && truncated {
             // A capped query keeps the first masters in traversal order: take a rebuilt
             // tree's order, as a step without a kept tree does.
