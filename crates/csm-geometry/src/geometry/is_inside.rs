@@ -2,7 +2,7 @@
 //! `IsInside`, reference §17.1).
 
 use super::Geometry;
-use crate::math::{Point, Real};
+use crate::math::{Point, Real, Vector};
 use crate::{Error, ErrorKind, GeometryKind};
 
 impl Geometry<'_> {
@@ -79,5 +79,60 @@ impl Geometry<'_> {
             }
         };
         Ok(self.is_inside_local(&local, tolerance).then_some(local))
+    }
+}
+
+impl Geometry<'_> {
+    /// Whether `p` lies certainly outside this linear solid (Tetrahedra3D4, Prism3D6,
+    /// Hexahedra3D8) enlarged by `tolerance` in local coordinates
+    /// ([`is_inside_local`](Self::is_inside_local)), seen along `direction`: `direction · p`
+    /// exceeds `direction · x` of every node by more than a margin. The map of these kinds is
+    /// affine in each factor of the reference element (simplex × interval), so the image of the
+    /// enlarged reference element lies in the convex hull of the images of its corners, which
+    /// reach at most `(3t + 4t²) · range` beyond the nodes' range along `direction`; the margin
+    /// also covers the convergence tolerance of the local coordinates (`10⁻⁶` of the
+    /// bounding-box diagonal, a hundred times `LOCAL_COORDINATES_TOLERANCE` times the Jacobian's
+    /// size) and rounding far from the origin.
+    ///
+    /// Where it returns true, [`is_inside`](Self::is_inside) gives `Ok(None)` for every
+    /// iteration that converges (and a non-converged one is outside too), except for the error
+    /// of a singular Jacobian, which [`check_local_coordinates`](Self::check_local_coordinates)
+    /// reports. False (no conclusion) for every other kind and for a zero or non-finite
+    /// direction, point or tolerance. A cheap exact pre-test for the normal check's probes.
+    pub fn separated_along(&self, p: &Point, direction: &Vector, tolerance: Real) -> bool {
+        use GeometryKind as K;
+        if !matches!(
+            self.kind(),
+            K::Tetrahedra3D4 | K::Prism3D6 | K::Hexahedra3D8
+        ) || !tolerance.is_finite()
+            || tolerance < 0.0
+        {
+            return false;
+        }
+        let along = |x: &Point| direction.x * x.x + direction.y * x.y + direction.z * x.z;
+        let (mut lo, mut hi, mut magnitude) = (Real::INFINITY, Real::NEG_INFINITY, 0.0);
+        for x in self.points() {
+            let a = along(x);
+            lo = lo.min(a);
+            hi = hi.max(a);
+            magnitude = Real::max(magnitude, a.abs());
+        }
+        let probe = along(p);
+        let d = direction.norm();
+        let margin = (3.0 * tolerance + 4.0 * tolerance * tolerance) * (hi - lo)
+            + 1e-6 * d * self.scale()
+            + 1e-12 * Real::max(magnitude, probe.abs());
+        // NaN anywhere makes the comparison false.
+        d > 0.0 && margin.is_finite() && probe > hi + margin
+    }
+
+    /// The error the local-coordinates iteration of a solid or face raises in its first step,
+    /// if any: a singular Jacobian at the reference centre ([`ErrorKind::Degenerate`]).
+    /// Callers that skip [`is_inside`](Self::is_inside) on [`separated_along`](
+    /// Self::separated_along) report it with this.
+    pub fn check_local_coordinates(&self) -> Result<(), Error> {
+        self.least_squares_step_matrices(&self.reference_center())
+            .1
+            .map(|_| ())
     }
 }

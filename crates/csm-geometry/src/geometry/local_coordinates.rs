@@ -120,7 +120,10 @@ impl Geometry<'_> {
 
     /// The Gauss–Newton step's matrices at `ξ`: `J`, and `(JᵀJ)⁻¹` (unused directions padded
     /// with the identity) or the singular-Jacobian error.
-    fn least_squares_step_matrices(&self, xi: &Point) -> (Matrix3, Result<Matrix3, Error>) {
+    pub(crate) fn least_squares_step_matrices(
+        &self,
+        xi: &Point,
+    ) -> (Matrix3, Result<Matrix3, Error>) {
         let d = self.kind().local_dim();
         let j = self.jacobian(xi);
         let mut jtj = j.transpose() * j;

@@ -195,3 +195,77 @@ fn warped_quadrilaterals_kratos_order_agrees_with_least_squares() {
         }
     }
 }
+
+/// `separated_along` is an exact pre-test of the inside test: wherever it says "separated",
+/// `is_inside` says outside — on points all around distorted linear solids, on points exactly
+/// on the enlarged reference element's boundary (never separated) — and it does answer for
+/// the normal check's probes (0.1 · face length outside each face, along the face normal).
+#[test]
+fn separated_along_implies_outside() {
+    use GeometryKind as K;
+    let mut rng = Rng::new(0x5E9A);
+    let tol = 5e-7;
+    for kind in [K::Tetrahedra3D4, K::Prism3D6, K::Hexahedra3D8] {
+        let (mut probes, mut separated_probes, mut separated_points) = (0, 0, 0);
+        for _ in 0..100 {
+            let pts = embedded(kind, &mut rng);
+            let g = Geometry::new(kind, &pts).unwrap();
+            g.check_local_coordinates().unwrap();
+            // Random points around the element, random directions (and the axes).
+            for _ in 0..40 {
+                let local = interior_local(kind, &mut rng);
+                let spread = Vector::new(
+                    rng.range(-0.6, 0.6),
+                    rng.range(-0.6, 0.6),
+                    rng.range(-0.6, 0.6),
+                );
+                let x = g.global_coordinates(&(local + spread));
+                let inside = g.is_inside(&x, tol).unwrap().is_some();
+                for d in [rng.unit_vector(), Vector::x(), -Vector::z()] {
+                    if g.separated_along(&x, &d, tol) {
+                        separated_points += 1;
+                        assert!(!inside, "{kind:?}: {x:?} separated along {d:?} but inside");
+                    }
+                }
+            }
+            // Points on the enlarged boundary are inside: never separated.
+            let corner = match kind {
+                K::Hexahedra3D8 => Point::new(1.0 + tol, -1.0 - tol, 1.0 + tol),
+                K::Prism3D6 => Point::new(-tol, 1.0 + 2.0 * tol, 1.0 + tol),
+                _ => Point::new(-tol, -tol, 1.0 + 3.0 * tol),
+            };
+            let x = g.global_coordinates(&corner);
+            for _ in 0..20 {
+                assert!(!g.separated_along(&x, &rng.unit_vector(), tol), "{kind:?}");
+            }
+            // The normal check's probes of a properly oriented element.
+            for (face_kind, local) in kind.faces() {
+                let face_points: Vec<Point> = local.iter().map(|&l| pts[l]).collect();
+                let face = Geometry::new(*face_kind, &face_points).unwrap();
+                let centre = face.center();
+                let n = face
+                    .unit_normal(&face.point_local_coordinates(&centre).unwrap())
+                    .unwrap();
+                let probe = centre + n * (0.1 * face.length().unwrap());
+                probes += 1;
+                if g.separated_along(&probe, &n, tol) {
+                    separated_probes += 1;
+                    assert!(g.is_inside(&probe, tol).unwrap().is_none(), "{kind:?}");
+                }
+            }
+        }
+        assert!(separated_points > 100, "{kind:?}: {separated_points}");
+        assert!(
+            separated_probes * 10 >= probes * 9,
+            "{kind:?}: {separated_probes} of {probes} probes separated"
+        );
+    }
+    // Other kinds: no conclusion.
+    let tri = [
+        Point::new(0.0, 0.0, 0.0),
+        Point::new(1.0, 0.0, 0.0),
+        Point::new(0.0, 1.0, 0.0),
+    ];
+    let g = Geometry::new(K::Triangle3D3, &tri).unwrap();
+    assert!(!g.separated_along(&Point::new(0.0, 0.0, 5.0), &Vector::z(), tol));
+}

@@ -562,8 +562,10 @@ impl ContactSearch {
         let node_ids = model.nodes().ids();
         for pair in &self.pairs {
             let inverted = pair.params.inverted_search;
-            let mut slaves = std::collections::BTreeMap::new();
-            let mut nodes: BTreeSet<NodeIdx> = BTreeSet::new();
+            // Collected in vectors and bulk-built into the maps (sorted input: no per-entry
+            // tree insertion).
+            let mut slaves: Vec<(u32, Vec<u32>)> = Vec::new();
+            let mut node_list: Vec<NodeIdx> = Vec::new();
             let gaps = if pair.params.check_gap == CheckGap::MappingCheck {
                 model.nodal_data().scalar(ScalarVar::NormalGap, 0)
             } else {
@@ -578,23 +580,45 @@ impl ContactSearch {
                     .masters()
                     .map(ConditionId::get)
                     .collect();
-                slaves.insert(ids[c.index()], masters);
-                nodes.extend(model.conditions().nodes(c.index()).iter().copied());
+                slaves.push((ids[c.index()], masters));
+                node_list.extend(model.conditions().nodes(c.index()).iter().copied());
             }
-            for n in nodes {
-                let flags = model.nodes().flags()[n.index()];
-                // NORMAL_GAP is never written by No/DirectCheck (null); MappingCheck's 1e12
-                // "not mapped" sentinel is null too.
-                let normal_gap = gaps
-                    .and_then(|g| g.get(n.index()).copied())
-                    .filter(|g| *g != csm_activation::NORMAL_GAP_SENTINEL);
-                result.nodes.insert(
-                    node_ids[n.index()],
-                    NodeResult {
-                        normal_gap,
-                        active: flags.is(Flag::ACTIVE),
-                    },
-                );
+            slaves.sort_unstable_by_key(|(id, _)| *id);
+            // A condition id appears once per part; keep the last entry of a repeated id, as
+            // repeated insertion did.
+            slaves.dedup_by(|later, earlier| {
+                let same = later.0 == earlier.0;
+                if same {
+                    std::mem::swap(later, earlier);
+                }
+                same
+            });
+            let slaves: std::collections::BTreeMap<u32, Vec<u32>> = slaves.into_iter().collect();
+            node_list.sort_unstable();
+            node_list.dedup();
+            let mut node_results: Vec<(u32, NodeResult)> = node_list
+                .into_iter()
+                .map(|n| {
+                    let flags = model.nodes().flags()[n.index()];
+                    // NORMAL_GAP is never written by No/DirectCheck (null); MappingCheck's
+                    // 1e12 "not mapped" sentinel is null too.
+                    let normal_gap = gaps
+                        .and_then(|g| g.get(n.index()).copied())
+                        .filter(|g| *g != csm_activation::NORMAL_GAP_SENTINEL);
+                    (
+                        node_ids[n.index()],
+                        NodeResult {
+                            normal_gap,
+                            active: flags.is(Flag::ACTIVE),
+                        },
+                    )
+                })
+                .collect();
+            node_results.sort_unstable_by_key(|(id, _)| *id);
+            if result.nodes.is_empty() {
+                result.nodes = node_results.into_iter().collect();
+            } else {
+                result.nodes.extend(node_results);
             }
             let mut pruned: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
             for &(s, m) in &pair.pruned {

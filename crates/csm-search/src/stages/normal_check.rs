@@ -228,11 +228,21 @@ fn inward_faces(
     model.gather_points(model.elements().nodes(e), points);
     let element = Geometry::new(kind, points).map_err(|err| element_error(model, e, err))?;
     let mut inverted = Vec::new();
+    let mut checked = false;
     for (face_kind, local) in kind.faces() {
         face_points.clear();
         face_points.extend(local.iter().map(|&l| points[l]));
-        let probe =
+        let (probe, normal) =
             face_probe(*face_kind, face_points, lp).map_err(|err| element_error(model, e, err))?;
+        // A probe beyond every node along the face normal is outside: the inside test's
+        // answer without its iteration (exact, `Geometry::separated_along`).
+        if element.separated_along(&probe, &normal, tol) {
+            if !checked {
+                check_element(model, e, &element)?;
+                checked = true;
+            }
+            continue;
+        }
         if element
             .is_inside(&probe, tol)
             .map_err(|err| element_error(model, e, err))?
@@ -265,6 +275,7 @@ fn inward_nodes(
         .length()
         .map_err(|err| element_error(model, e, err))?;
     let mut inward = Vec::new();
+    let mut checked = false;
     for (n, x) in nodes.iter().zip(points.iter()) {
         if !model.nodes().flags()[n.index()].is(Flag::INTERFACE) {
             continue;
@@ -274,6 +285,13 @@ fn inward_nodes(
             .copied()
             .unwrap_or_else(Vector::zeros);
         let probe = x + normal * (lp * length);
+        if element.separated_along(&probe, &normal, tol) {
+            if !checked {
+                check_element(model, e, &element)?;
+                checked = true;
+            }
+            continue;
+        }
         if element
             .is_inside(&probe, tol)
             .map_err(|err| element_error(model, e, err))?
@@ -285,14 +303,27 @@ fn inward_nodes(
     Ok(inward)
 }
 
-/// `face.Center() + lp · face.Length() · face.UnitNormal(ξ(centre))`, in Kratos' order.
-fn face_probe(kind: GeometryKind, points: &[Point], lp: f64) -> Result<Point, csm_geometry::Error> {
+/// `face.Center() + lp · face.Length() · face.UnitNormal(ξ(centre))`, in Kratos' order, and
+/// that unit normal.
+fn face_probe(
+    kind: GeometryKind,
+    points: &[Point],
+    lp: f64,
+) -> Result<(Point, Vector), csm_geometry::Error> {
     let face = Geometry::new(kind, points)?;
     let centre = face.center();
     let local = face.point_local_coordinates(&centre)?;
     let normal = face.unit_normal(&local)?;
     let length = face.length()?;
-    Ok(centre + normal * (lp * length))
+    Ok((centre + normal * (lp * length), normal))
+}
+
+/// The error the element's inside test would raise on its first iteration (a singular
+/// Jacobian), for an element whose inside tests were answered by `separated_along`.
+fn check_element(model: &ModelPart, e: usize, element: &Geometry<'_>) -> Result<(), Error> {
+    element
+        .check_local_coordinates()
+        .map_err(|err| element_error(model, e, err))
 }
 
 /// The renumbering that inverts a geometry of `kind` in robust mode: new node `i` is old node
