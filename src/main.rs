@@ -185,10 +185,9 @@ fn run(cli: Cli) -> Result<(), String> {
                 progress: csm::cli::progress_wanted(quiet),
             };
             let (result, timings) = csm::cli::run_search_with(&mut model, &setup, read, options)?;
-            let json = result_json(&result, &timings)?;
             match &output {
-                Some(path) => write(path, json)?,
-                None => out(&json)?,
+                Some(path) => write_result(path, &result, &timings)?,
+                None => out(&result_json(&result, &timings)?)?,
             }
             if let Some(path) = &vtk {
                 csm::cli::write_search_vtu(&model, &result, path)?;
@@ -294,7 +293,7 @@ fn run(cli: Cli) -> Result<(), String> {
             std::fs::create_dir_all(&output)
                 .map_err(|e| format!("{}: cannot create the folder: {e}", output.display()))?;
             let json_path = output.join("RESULT.json");
-            write(&json_path, result_json(&result, &timings)?)?;
+            write_result(&json_path, &result, &timings)?;
             let vtu_path = output.join("demo.vtu");
             csm::cli::write_search_vtu(&scene.model, &result, &vtu_path)?;
             if !quiet {
@@ -364,9 +363,27 @@ fn result_json(
     result: &csm::search::SearchResult,
     timings: &csm::cli::Timings,
 ) -> Result<String, String> {
-    let json = serde_json::to_string_pretty(&result.to_json(&timings.entries()))
+    let mut text = Vec::new();
+    result
+        .write_json(&timings.entries(), &mut text)
         .map_err(|e| format!("cannot format JSON: {e}"))?;
-    Ok(json + "\n")
+    String::from_utf8(text).map_err(|e| format!("cannot format JSON: {e}"))
+}
+
+/// Streams RESULT.json to `path` (no copy of the whole text in memory).
+fn write_result(
+    path: &Path,
+    result: &csm::search::SearchResult,
+    timings: &csm::cli::Timings,
+) -> Result<(), String> {
+    use std::io::Write;
+    let file = std::fs::File::create(path)
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+    let mut writer = std::io::BufWriter::new(file);
+    result
+        .write_json(&timings.entries(), &mut writer)
+        .and_then(|()| writer.flush())
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))
 }
 
 /// Writes `text` to standard output; a closed pipe (`csm plan … | head`) ends the output

@@ -169,7 +169,9 @@ pub fn compute_unit_normals(
     model.nodal_data_mut().add_vector(VectorVar::Normal);
     let n_nodes = model.nodes().len();
     let mut nodal = vec![Vector::zeros(); n_nodes];
-    let mut touched = vec![false; n_nodes];
+    // How many face nodes are this node (its adjacent faces): Kratos normalises it that
+    // often (Q38); 0 for a node of no face.
+    let mut count = vec![0u32; n_nodes];
     // The per-face normals in parallel; the sums below in condition order, as Kratos' serial
     // loop adds them (identical results for any thread count).
     let faces = face_unit_normals(model, &conditions)?;
@@ -177,29 +179,43 @@ pub fn compute_unit_normals(
         let nodes = model.conditions().nodes(face.condition.index());
         for (k, node) in nodes.iter().enumerate() {
             nodal[node.index()] += face.node(k);
-            touched[node.index()] = true;
+            count[node.index()] += 1;
         }
     }
-    // Normalise.
-    let mut normalise = |i: usize| -> Result<(), usize> {
-        let norm = nodal[i].norm();
-        if norm <= EPS {
-            return Err(i);
-        }
-        nodal[i] /= norm;
-        Ok(())
+    // Normalise. Kratos' loop normalises node by node in condition order, a node once per
+    // adjacent face; no other node's value enters, so each node is normalised `count` times
+    // on its own, in parallel. Only the first normalisation can fail (afterwards the norm is
+    // about 1): the node reported is the first failing one in Kratos' order.
+    let times = |i: usize| match mode {
+        NormalsMode::Kratos => count[i],
+        NormalsMode::Once => count[i].min(1),
     };
-    let result = match mode {
-        NormalsMode::Kratos => faces.iter().try_for_each(|face| {
-            model
-                .conditions()
-                .nodes(face.condition.index())
-                .iter()
-                .try_for_each(|n| normalise(n.index()))
-        }),
-        NormalsMode::Once => (0..n_nodes)
-            .filter(|&i| touched[i])
-            .try_for_each(&mut normalise),
+    let failed = nodal
+        .par_iter_mut()
+        .enumerate()
+        .map(|(i, v)| {
+            for _ in 0..times(i) {
+                let norm = v.norm();
+                if norm <= EPS {
+                    return true;
+                }
+                *v /= norm;
+            }
+            false
+        })
+        .filter(|&f| f)
+        .count()
+        > 0;
+    let result = match (failed, mode) {
+        (false, _) => Ok(()),
+        (true, NormalsMode::Kratos) => faces
+            .iter()
+            .flat_map(|face| model.conditions().nodes(face.condition.index()))
+            .find(|n| nodal[n.index()].norm() <= EPS)
+            .map_or(Ok(()), |n| Err(n.index())),
+        (true, NormalsMode::Once) => (0..n_nodes)
+            .find(|&i| count[i] > 0 && nodal[i].norm() <= EPS)
+            .map_or(Ok(()), Err),
     };
     if let Err(i) = result {
         let what = if model.nodes().flags()[i].is(Flag::INTERFACE) {
@@ -228,7 +244,7 @@ pub fn compute_unit_normals(
     }
     if let Some(column) = model.nodal_data_mut().vector_mut(VectorVar::Normal, 0) {
         for i in (0..n_nodes).filter(|&i| reset[i]) {
-            column[i] = if touched[i] {
+            column[i] = if count[i] > 0 {
                 nodal[i]
             } else {
                 Vector::zeros()

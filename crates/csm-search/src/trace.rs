@@ -1,7 +1,8 @@
 //! Stage timings on standard error, for profiling long runs: with the environment variable
 //! `CSM_TRACE_STAGES` set (to anything), every stage mark prints the wall time since the
-//! previous mark of the same thread, e.g. `csm: stage kd-tree queries 0.451 s`. Without it a
-//! mark costs one relaxed check.
+//! previous mark of the same thread and, where `/proc/self/status` exists (Linux), the
+//! resident memory and its peak so far, e.g. `csm: stage slave queries 0.451 s (RSS 310 MiB,
+//! peak 351 MiB)`. Without the variable a mark costs one check of a cached flag.
 
 use std::cell::Cell;
 use std::sync::OnceLock;
@@ -31,7 +32,31 @@ pub(crate) fn mark(name: &str) {
     let now = Instant::now();
     LAST.with(|last| {
         if let Some(before) = last.replace(Some(now)) {
-            eprintln!("csm: stage {name} {:.3} s", (now - before).as_secs_f64());
+            eprintln!(
+                "csm: stage {name} {:.3} s{}",
+                (now - before).as_secs_f64(),
+                memory()
+            );
         }
     });
+}
+
+/// ` (RSS … MiB, peak … MiB)` from `/proc/self/status`, or nothing where it cannot be read.
+fn memory() -> String {
+    let Ok(status) = std::fs::read_to_string("/proc/self/status") else {
+        return String::new();
+    };
+    let field = |key: &str| -> Option<u64> {
+        let line = status.lines().find(|l| l.starts_with(key))?;
+        line[key.len()..]
+            .trim()
+            .trim_end_matches("kB")
+            .trim()
+            .parse()
+            .ok()
+    };
+    match (field("VmRSS:"), field("VmHWM:")) {
+        (Some(rss), Some(peak)) => format!(" (RSS {} MiB, peak {} MiB)", rss / 1024, peak / 1024),
+        _ => String::new(),
+    }
 }

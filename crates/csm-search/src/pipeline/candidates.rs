@@ -53,6 +53,47 @@ impl Bv {
     }
 }
 
+/// Data of one step per master-side condition (the kd-tree's points), stored compactly: a
+/// slot per condition index, the values only for the masters.
+#[derive(Debug)]
+pub(crate) struct PerMaster<T> {
+    /// By condition index: the position in `values`, or `u32::MAX`.
+    slot: Vec<u32>,
+    values: Vec<T>,
+}
+
+impl<T: Send> PerMaster<T> {
+    /// No master has a value.
+    pub(crate) fn none() -> PerMaster<T> {
+        PerMaster {
+            slot: Vec::new(),
+            values: Vec::new(),
+        }
+    }
+
+    /// `value(c)` for every master `c` of `masters`, computed in parallel; `n_conditions`
+    /// is the model's condition count.
+    pub(crate) fn build(
+        n_conditions: usize,
+        masters: &[ConditionIdx],
+        value: impl Fn(ConditionIdx) -> T + Sync,
+    ) -> PerMaster<T> {
+        use rayon::prelude::*;
+        let mut slot = vec![u32::MAX; n_conditions];
+        for (i, c) in masters.iter().enumerate() {
+            slot[c.index()] = i as u32;
+        }
+        let values = masters.par_iter().map(|&c| value(c)).collect();
+        PerMaster { slot, values }
+    }
+
+    /// The value of master `c`, if it has one.
+    pub(crate) fn get(&self, c: ConditionIdx) -> Option<&T> {
+        let i = *self.slot.get(c.index())?;
+        self.values.get(i as usize)
+    }
+}
+
 /// The step's read-only data every slave query uses.
 pub(crate) struct QueryContext<'a> {
     pub model: &'a ModelPart,
@@ -77,9 +118,9 @@ pub(crate) struct QueryContext<'a> {
     pub active_check_factor: Real,
     /// Master bounding boxes by condition index (`None`: not a point-list condition; empty
     /// without the OBB test).
-    pub master_bvs: &'a [Option<Result<Bv, csm_geometry::Error>>],
+    pub master_bvs: &'a PerMaster<Result<Bv, csm_geometry::Error>>,
     /// Master 18-DOPs (enlarged by `bbf`) by condition index, for `kdop_18` (empty otherwise).
-    pub master_kdops: &'a [Option<Kdop18>],
+    pub master_kdops: &'a PerMaster<Kdop18>,
 }
 
 /// One candidate master that survived the order-independent tests.
@@ -232,13 +273,13 @@ pub(crate) fn slave_candidates(
     for &c in found.iter() {
         let master = ConditionIdx(c);
         if let Some(kdop) = &slave_kdop {
-            match &cx.master_kdops[master.index()] {
+            match cx.master_kdops.get(master) {
                 Some(m) if kdop.intersects(m) => {}
                 _ => continue,
             }
         }
         if cx.obb_test {
-            let bv = match &cx.master_bvs[master.index()] {
+            let bv = match cx.master_bvs.get(master) {
                 Some(Ok(bv)) => bv,
                 Some(Err(e)) => return Err(geometry_error(model, master, e)),
                 None => continue,

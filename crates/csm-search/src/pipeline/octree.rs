@@ -47,7 +47,7 @@ use csm_geometry::{Geometry, GeometryKind, ObbIntersection, SatMode};
 use csm_model::{ConditionId, ConditionIdx, Flag, ModelPart, NodeIdx, PartIdx, ScalarVar};
 use csm_trees::{LeafId, Octree};
 
-use super::candidates::{Bv, QueryContext, direct_check_nodes, slave_search_nodes};
+use super::candidates::{Bv, PerMaster, QueryContext, direct_check_nodes, slave_search_nodes};
 use super::filters::passes_orientation;
 use super::pairing::direct_check_count;
 use crate::error::{Error, ErrorKind};
@@ -474,8 +474,8 @@ pub(crate) fn search_octree_report(
                                     nodal_normals: &[],
                                     nodal_h: &nodal_h,
                                     active_check_factor: acf,
-                                    master_bvs: &[],
-                                    master_kdops: &[],
+                                    master_bvs: &PerMaster::none(),
+                                    master_kdops: &PerMaster::none(),
                                 };
                                 direct_check_nodes(&qcx, c, m, &n_c)?
                             }

@@ -108,6 +108,28 @@ impl SearchResult {
         Value::Object(out)
     }
 
+    /// Writes RESULT.json to `writer`, pretty-printed and followed by a newline: the same
+    /// text as `serde_json::to_string_pretty(&self.to_json(timings))`, streamed (no JSON
+    /// tree of the whole result in memory).
+    ///
+    /// Errors: those of the writer.
+    pub fn write_json(
+        &self,
+        timings: &[(&str, f64)],
+        mut writer: impl std::io::Write,
+    ) -> std::io::Result<()> {
+        serde_json::to_writer_pretty(
+            &mut writer,
+            &ResultJson {
+                result: self,
+                timings,
+                step: None,
+            },
+        )
+        .map_err(std::io::Error::from)?;
+        writer.write_all(b"\n")
+    }
+
     /// Total number of (slave, master) entries over every pair key.
     pub fn n_pairs(&self) -> usize {
         self.pairs
@@ -115,5 +137,172 @@ impl SearchResult {
             .flat_map(|m| m.values())
             .map(Vec::len)
             .sum()
+    }
+}
+
+/// RESULT.json of a result (`step: None`) or one `steps` entry, serialised as
+/// [`SearchResult::to_json`] builds it (same keys, same order).
+struct ResultJson<'a> {
+    result: &'a SearchResult,
+    timings: &'a [(&'a str, f64)],
+    step: Option<u32>,
+}
+
+impl serde::Serialize for ResultJson<'_> {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        struct Pairs<'a>(&'a BTreeMap<String, BTreeMap<u32, Vec<u32>>>);
+        impl serde::Serialize for Pairs<'_> {
+            fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+                struct Slaves<'a>(&'a BTreeMap<u32, Vec<u32>>);
+                impl serde::Serialize for Slaves<'_> {
+                    fn serialize<S: serde::Serializer>(
+                        &self,
+                        serializer: S,
+                    ) -> Result<S::Ok, S::Error> {
+                        serializer.collect_map(self.0.iter().map(|(s, m)| (s.to_string(), m)))
+                    }
+                }
+                serializer.collect_map(self.0.iter().map(|(k, v)| (k, Slaves(v))))
+            }
+        }
+        struct Nodes<'a>(&'a BTreeMap<u32, NodeResult>);
+        impl serde::Serialize for Nodes<'_> {
+            fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+                struct Node(NodeResult);
+                impl serde::Serialize for Node {
+                    fn serialize<S: serde::Serializer>(
+                        &self,
+                        serializer: S,
+                    ) -> Result<S::Ok, S::Error> {
+                        let mut m = serializer.serialize_map(Some(2))?;
+                        m.serialize_entry(
+                            "normal_gap",
+                            &self.0.normal_gap.filter(|g| g.is_finite()),
+                        )?;
+                        m.serialize_entry("active", &self.0.active)?;
+                        m.end()
+                    }
+                }
+                serializer.collect_map(self.0.iter().map(|(id, n)| (id.to_string(), Node(*n))))
+            }
+        }
+        struct Timings<'a>(&'a [(&'a str, f64)]);
+        impl serde::Serialize for Timings<'_> {
+            fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+                // `json!(f64)`: a non-finite value is null.
+                serializer.collect_map(
+                    self.0
+                        .iter()
+                        .map(|(k, v)| (*k, Some(*v).filter(|v| v.is_finite()))),
+                )
+            }
+        }
+        struct Steps<'a>(&'a [StepResult]);
+        impl serde::Serialize for Steps<'_> {
+            fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+                serializer.collect_seq(self.0.iter().map(|s| StepJson(s)))
+            }
+        }
+        struct StepJson<'a>(&'a StepResult);
+        impl serde::Serialize for StepJson<'_> {
+            fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+                let timings = [("search", self.0.search_s)];
+                ResultJson {
+                    result: &self.0.result,
+                    timings: &timings,
+                    step: Some(self.0.step),
+                }
+                .serialize(serializer)
+            }
+        }
+        let r = self.result;
+        let mut m = serializer.serialize_map(None)?;
+        match self.step {
+            None => {
+                m.serialize_entry("format", "csm-result/1")?;
+                m.serialize_entry("pairs", &Pairs(&r.pairs))?;
+                m.serialize_entry("nodes", &Nodes(&r.nodes))?;
+                m.serialize_entry("paired_conditions", &r.paired_conditions)?;
+                m.serialize_entry("warnings", &r.warnings)?;
+                m.serialize_entry("timings_s", &Timings(self.timings))?;
+                if !r.steps.is_empty() {
+                    m.serialize_entry("steps", &Steps(&r.steps))?;
+                }
+            }
+            Some(step) => {
+                m.serialize_entry("step", &step)?;
+                m.serialize_entry("pairs", &Pairs(&r.pairs))?;
+                m.serialize_entry("nodes", &Nodes(&r.nodes))?;
+                m.serialize_entry("paired_conditions", &r.paired_conditions)?;
+                m.serialize_entry("timings_s", &Timings(self.timings))?;
+            }
+        }
+        m.end()
+    }
+}
+
+#[cfg(test)]
+mod json_tests {
+    use super::*;
+
+    fn sample(steps: bool) -> SearchResult {
+        let mut r = SearchResult::default();
+        let mut slaves = BTreeMap::new();
+        slaves.insert(12, vec![3, 40]);
+        slaves.insert(7, vec![]);
+        r.pairs.insert("0".into(), slaves);
+        r.pairs.insert("1".into(), BTreeMap::new());
+        r.nodes.insert(
+            5,
+            NodeResult {
+                normal_gap: Some(-0.125),
+                active: true,
+            },
+        );
+        r.nodes.insert(
+            2,
+            NodeResult {
+                normal_gap: None,
+                active: false,
+            },
+        );
+        r.nodes.insert(
+            9,
+            NodeResult {
+                normal_gap: Some(f64::NAN),
+                active: false,
+            },
+        );
+        r.paired_conditions = 2;
+        r.warnings = vec!["a \"quoted\" warning".into()];
+        if steps {
+            r.steps = vec![
+                StepResult {
+                    step: 1,
+                    result: sample(false),
+                    search_s: 0.5,
+                },
+                StepResult {
+                    step: 2,
+                    result: SearchResult::default(),
+                    search_s: f64::NAN,
+                },
+            ];
+        }
+        r
+    }
+
+    /// The streamed RESULT.json is the text of the JSON tree, byte for byte.
+    #[test]
+    fn write_json_equals_the_pretty_tree() {
+        for steps in [false, true] {
+            let r = sample(steps);
+            let timings = [("read", 1.25), ("search", 3.0), ("total", f64::INFINITY)];
+            let tree = serde_json::to_string_pretty(&r.to_json(&timings)).unwrap() + "\n";
+            let mut streamed = Vec::new();
+            r.write_json(&timings, &mut streamed).unwrap();
+            assert_eq!(String::from_utf8(streamed).unwrap(), tree, "steps: {steps}");
+        }
     }
 }

@@ -13,7 +13,7 @@ use csm_model::{
 use csm_trees::KdTree;
 use rayon::prelude::*;
 
-use super::candidates::{Bv, Candidate, QueryContext, QueryScratch, slave_candidates};
+use super::candidates::{Bv, Candidate, PerMaster, QueryContext, QueryScratch, slave_candidates};
 use super::motion::{apply_nodal_values, check_step_parts, step_positions};
 use super::octree::{OctreeContext, search_octree_report};
 pub use super::pairing::PairedCondition;
@@ -1270,48 +1270,33 @@ fn kdtree_search(
     // Master boxes, once per step (Kratos rebuilds one per candidate); No/DirectCheck build
     // them with build_from_bounding_box = true (Q4). Allocated only for the OBB test.
     let master_bfb = p.check_gap != CheckGap::MappingCheck || p.octree.build_from_bounding_box;
-    let mut master_bvs: Vec<Option<Result<Bv, csm_geometry::Error>>> = Vec::new();
-    if with_obb {
-        master_bvs = vec![None; model.conditions().len()];
-        let built: Vec<(u32, Result<Bv, csm_geometry::Error>)> = points
-            .par_iter()
-            .map(|(c, _)| {
-                let idx = *c as usize;
-                let pts: Vec<_> = model
-                    .conditions()
-                    .nodes(idx)
-                    .iter()
-                    .map(|n| model.nodes().coordinates()[n.index()])
-                    .collect();
-                let bv = Geometry::new(model.conditions().kind(idx), &pts)
-                    .and_then(|g| Bv::build(&g, dim, bbf, master_bfb, compatibility));
-                (*c, bv)
-            })
-            .collect();
-        for (c, bv) in built {
-            master_bvs[c as usize] = Some(bv);
-        }
-    }
+    let masters: Vec<ConditionIdx> = points.iter().map(|(c, _)| ConditionIdx(*c)).collect();
+    let gather = |c: ConditionIdx| -> Vec<Point> {
+        model
+            .conditions()
+            .nodes(c.index())
+            .iter()
+            .map(|n| model.nodes().coordinates()[n.index()])
+            .collect()
+    };
+    let n_conditions = model.conditions().len();
+    let master_bvs = if with_obb {
+        PerMaster::build(n_conditions, &masters, |c| {
+            let pts = gather(c);
+            Geometry::new(model.conditions().kind(c.index()), &pts)
+                .and_then(|g| Bv::build(&g, dim, bbf, master_bfb, compatibility))
+        })
+    } else {
+        PerMaster::none()
+    };
     crate::trace::mark("master boxes");
-    let mut master_kdops: Vec<Option<Kdop18>> = Vec::new();
-    if with_kdop {
-        master_kdops = vec![None; model.conditions().len()];
-        let built: Vec<(u32, Kdop18)> = points
-            .par_iter()
-            .map(|(c, _)| {
-                let pts: Vec<_> = model
-                    .conditions()
-                    .nodes(*c as usize)
-                    .iter()
-                    .map(|n| model.nodes().coordinates()[n.index()])
-                    .collect();
-                (*c, Kdop18::from_points(&pts).enlarged(bbf))
-            })
-            .collect();
-        for (c, k) in built {
-            master_kdops[c as usize] = Some(k);
-        }
-    }
+    let master_kdops = if with_kdop {
+        PerMaster::build(n_conditions, &masters, |c| {
+            Kdop18::from_points(&gather(c)).enlarged(bbf)
+        })
+    } else {
+        PerMaster::none()
+    };
     let slaves: Vec<ConditionIdx> = conditions
         .iter()
         .copied()
@@ -1328,8 +1313,7 @@ fn kdtree_search(
         .process_info()
         .number("ACTIVE_CHECK_FACTOR")
         .unwrap_or(0.0);
-    let candidates: Vec<Result<Vec<Candidate>, Error>> = {
-        crate::trace::mark("slave list");
+    let candidates: SlaveCandidates = {
         let cx = QueryContext {
             model,
             params: p,
@@ -1349,38 +1333,44 @@ fn kdtree_search(
         // The queries run along a Morton curve of the slave centres (neighbouring queries
         // visit the same tree nodes and masters); the results go back to the slave order.
         let order = morton_order(model, &slaves);
-        let query_all = |tree: &KdTree<u32>| -> (Vec<Result<Vec<Candidate>, Error>>, bool) {
+        let query_all = |tree: &KdTree<u32>| -> (Vec<QueryChunk>, bool) {
             let truncated = AtomicBool::new(false);
             let found = order
-                .par_iter()
-                .map_init(QueryScratch::default, |scratch, &k| {
-                    if slave_candidates(&cx, tree, slaves[k], scratch)? {
-                        truncated.store(true, Ordering::Relaxed);
+                .par_chunks(QUERY_CHUNK)
+                .map_init(QueryScratch::default, |scratch, chunk| {
+                    let mut out = QueryChunk::default();
+                    for &k in chunk {
+                        match slave_candidates(&cx, tree, slaves[k], scratch) {
+                            Ok(capped) => {
+                                if capped {
+                                    truncated.store(true, Ordering::Relaxed);
+                                }
+                                out.list.extend_from_slice(&scratch.candidates);
+                                out.counts.push(scratch.candidates.len() as u32);
+                            }
+                            Err(e) => {
+                                out.counts.push(0);
+                                if out.error.as_ref().is_none_or(|(first, _)| k < *first) {
+                                    out.error = Some((k, e));
+                                }
+                            }
+                        }
                     }
-                    Ok(scratch.candidates.clone())
+                    out
                 })
                 .collect();
             (found, truncated.into_inner())
         };
         let (mut in_curve_order, truncated) = query_all(&tree);
-        crate::trace::mark("slave queries");
         if refitted && truncated {
             // A capped query keeps the first masters in traversal order: take a rebuilt
             // tree's order, as a step without a kept tree does.
             tree = KdTree::new(&points, p.bucket_size).map_err(tree_error)?;
             in_curve_order = query_all(&tree).0;
         }
-        let mut by_slave: Vec<Option<Result<Vec<Candidate>, Error>>> =
-            (0..slaves.len()).map(|_| None).collect();
-        for (&k, r) in order.iter().zip(in_curve_order) {
-            by_slave[k] = Some(r);
-        }
-        by_slave
-            .into_iter()
-            .map(|r| r.expect("every slave was queried"))
-            .collect()
+        SlaveCandidates::in_slave_order(&order, in_curve_order)
     };
-    crate::trace::mark("query results");
+    crate::trace::mark("slave queries");
     if keep_tree {
         pair.tree = Some(KeptTree { ids, tree });
     }
@@ -1391,10 +1381,89 @@ fn kdtree_search(
         slave_nodes: usize::from(pair.instance.slave_nodes),
         active_before: active_before.as_deref(),
     };
-    for (s, cands) in slaves.iter().zip(candidates) {
-        apply_candidates(model, &pcx, *s, &cands?, created);
+    if let Some(e) = candidates.error {
+        return Err(e);
+    }
+    for (k, s) in slaves.iter().enumerate() {
+        apply_candidates(model, &pcx, *s, candidates.of(k), created);
     }
     Ok(())
+}
+
+/// Slave queries per parallel task.
+const QUERY_CHUNK: usize = 256;
+
+/// The candidates of consecutive queries (along the Morton curve) of one task.
+#[derive(Default)]
+struct QueryChunk {
+    /// Per query, its number of candidates.
+    counts: Vec<u32>,
+    list: Vec<Candidate>,
+    /// The error of the query with the smallest slave position, if any.
+    error: Option<(usize, Error)>,
+}
+
+/// The candidates of every slave, flat: slave `k`'s are `list[start[k]..start[k + 1]]`.
+struct SlaveCandidates {
+    start: Vec<u32>,
+    list: Vec<Candidate>,
+    /// The error of the first slave (in slave order) whose query failed.
+    error: Option<Error>,
+}
+
+impl SlaveCandidates {
+    /// From the chunks of the queries in `order` (slave positions along the curve).
+    fn in_slave_order(order: &[usize], chunks: Vec<QueryChunk>) -> SlaveCandidates {
+        let n = order.len();
+        let mut count = vec![0u32; n];
+        let mut error: Option<(usize, Error)> = None;
+        let mut j = 0;
+        for chunk in &chunks {
+            for &c in &chunk.counts {
+                count[order[j]] = c;
+                j += 1;
+            }
+        }
+        let mut start = Vec::with_capacity(n + 1);
+        start.push(0u32);
+        let mut total = 0u32;
+        for c in &count {
+            total += c;
+            start.push(total);
+        }
+        let mut list = vec![
+            Candidate {
+                master: ConditionIdx(0),
+                node_pass: 0
+            };
+            total as usize
+        ];
+        let mut j = 0;
+        for chunk in chunks {
+            let mut from = 0usize;
+            for &c in &chunk.counts {
+                let k = order[j];
+                let to = start[k] as usize;
+                list[to..to + c as usize].copy_from_slice(&chunk.list[from..from + c as usize]);
+                from += c as usize;
+                j += 1;
+            }
+            if let Some((k, e)) = chunk.error
+                && error.as_ref().is_none_or(|(first, _)| k < *first)
+            {
+                error = Some((k, e));
+            }
+        }
+        SlaveCandidates {
+            start,
+            list,
+            error: error.map(|(_, e)| e),
+        }
+    }
+
+    fn of(&self, k: usize) -> &[Candidate] {
+        &self.list[self.start[k] as usize..self.start[k + 1] as usize]
+    }
 }
 
 fn shift_nodes(model: &mut ModelPart, nodes: &[NodeIdx], delta: &[Vector], sign: Real) {
