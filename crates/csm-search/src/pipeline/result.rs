@@ -201,7 +201,7 @@ impl serde::Serialize for ResultJson<'_> {
         struct Steps<'a>(&'a [StepResult]);
         impl serde::Serialize for Steps<'_> {
             fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-                serializer.collect_seq(self.0.iter().map(|s| StepJson(s)))
+                serializer.collect_seq(self.0.iter().map(StepJson))
             }
         }
         struct StepJson<'a>(&'a StepResult);
