@@ -95,10 +95,13 @@ impl Geometry<'_> {
     /// size) and rounding far from the origin.
     ///
     /// Where it returns true, [`is_inside`](Self::is_inside) gives `Ok(None)` for every
-    /// iteration that converges (and a non-converged one is outside too), except for the error
-    /// of a singular Jacobian, which [`check_local_coordinates`](Self::check_local_coordinates)
-    /// reports. False (no conclusion) for every other kind and for a zero or non-finite
-    /// direction, point or tolerance. A cheap exact pre-test for the normal check's probes.
+    /// iteration that converges (and a non-converged one is outside too). The one answer it
+    /// does not give is an error of the iteration: a singular Jacobian at the start, which
+    /// [`check_local_coordinates`](Self::check_local_coordinates) reports, or at a later
+    /// iterate on the way to the (outside) point, which only a badly distorted element can
+    /// reach and which a caller skipping the iteration reads as "outside". False (no
+    /// conclusion) for every other kind and for a zero or non-finite direction, point or
+    /// tolerance. A cheap exact pre-test for the normal check's probes.
     pub fn separated_along(&self, p: &Point, direction: &Vector, tolerance: Real) -> bool {
         use GeometryKind as K;
         if !matches!(
