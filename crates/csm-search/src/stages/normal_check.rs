@@ -16,6 +16,11 @@
 //!    recomputed;
 //! 6. the remembered entities get MARKER := **false**, whatever they had (Q28).
 //!
+//! The inside tests of linear solids first try [`Geometry::separated_along`] (the probe beyond
+//! every node along the face normal or the nodal normal): a properly oriented element is
+//! answered without the local-coordinates iteration, with the same answer; the iteration's
+//! first-step error (a singular Jacobian) is still raised.
+//!
 //! Kratos inverts by reversing the node list (`std::reverse`). That flips lines, triangles and
 //! quadrilaterals, but it is an orientation-preserving renumbering of tetrahedra (Q41),
 //! hexahedra and prisms (a 180° turn), so Kratos leaves inverted 3D solids inverted; it also
