@@ -3,7 +3,7 @@
 
 use serde_json::Value;
 
-use crate::{csm, csm_json, repo_mesh, scratch};
+use crate::{RESULT_KEYS, csm, csm_json, repo_mesh, result_keys, scratch};
 
 fn write_setup(name: &str, text: &str) -> std::path::PathBuf {
     let path = scratch(name);
@@ -61,19 +61,9 @@ const AWAY_AND_BACK: &str = r#"    {"delta_time": 0.5},
 fn steps_result_follows_the_contract() {
     let setup = boxes_setup("steps_contract.json", AWAY_AND_BACK);
     let v = search(&setup, &[]);
-    let keys: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
-    assert_eq!(
-        keys,
-        [
-            "format",
-            "pairs",
-            "nodes",
-            "paired_conditions",
-            "warnings",
-            "timings_s",
-            "steps"
-        ]
-    );
+    let mut expected = RESULT_KEYS.to_vec();
+    expected.push("steps");
+    assert_eq!(result_keys(&v), expected);
     let steps = v["steps"].as_array().unwrap();
     assert_eq!(steps.len(), 3);
     for (k, s) in steps.iter().enumerate() {

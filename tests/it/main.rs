@@ -49,6 +49,26 @@ pub fn csm_json(args: &[&str]) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).expect("RESULT.json on stdout")
 }
 
+/// The top-level keys of a single-step RESULT.json, in the contract's order (DESIGN.md §3); a
+/// multi-step one adds `steps`.
+pub const RESULT_KEYS: [&str; 6] = [
+    "format",
+    "pairs",
+    "nodes",
+    "paired_conditions",
+    "warnings",
+    "timings_s",
+];
+
+/// The top-level keys of RESULT.json `v`, in order.
+pub fn result_keys(v: &serde_json::Value) -> Vec<&str> {
+    v.as_object()
+        .expect("RESULT.json is an object")
+        .keys()
+        .map(String::as_str)
+        .collect()
+}
+
 /// A fresh scratch file path under the target directory's temp area.
 pub fn scratch(name: &str) -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("it");

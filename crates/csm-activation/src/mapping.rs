@@ -171,28 +171,12 @@ pub(crate) fn mean_normals(
         }
         _ => Error::message_only(e.to_string()),
     })?;
-    // Dense sums; every touched node is written once, so the order of the writes does not
-    // matter (the sums are taken in the order of `conditions`).
-    let n_nodes = model.nodes().len();
-    let mut sums = vec![Vector::zeros(); n_nodes];
-    let mut touched = vec![false; n_nodes];
-    for face in faces.iter() {
-        for (k, n) in model
-            .conditions()
-            .nodes(face.condition.index())
-            .iter()
-            .enumerate()
-        {
-            sums[n.index()] += face.node(k);
-            touched[n.index()] = true;
-        }
-    }
-    let condition_normals = model.condition_normals_mut();
-    for face in faces.iter() {
-        condition_normals[face.condition.index()] = face.centre;
-    }
+    // Sums in the order of `conditions`; every node of a face is written once, so the order
+    // of the writes does not matter.
+    let (sums, count) = faces.nodal_sums(model);
+    faces.set_condition_normals(model);
     if let Some(col) = model.nodal_data_mut().vector_mut(VectorVar::Normal, 0) {
-        for (i, v) in sums.into_iter().enumerate().filter(|&(i, _)| touched[i]) {
+        for (i, v) in sums.into_iter().enumerate().filter(|&(i, _)| count[i] > 0) {
             let norm = norm_kratos(&v);
             col[i] = if norm > EPS { v / norm } else { v };
         }

@@ -101,10 +101,35 @@ impl FaceNormals {
         })
     }
 
-    fn push(&mut self, c: ConditionIdx, normals: &FaceUnitNormals, affine: bool) {
+    /// Per node of `model`, the sum of the nodal normals of its faces, added in the table's
+    /// face order (Kratos' order), and the number of its faces (0: a node of no face).
+    pub fn nodal_sums(&self, model: &ModelPart) -> (Vec<Vector>, Vec<u32>) {
+        let n_nodes = model.nodes().len();
+        let mut sums = vec![Vector::zeros(); n_nodes];
+        let mut count = vec![0u32; n_nodes];
+        for face in self.iter() {
+            let nodes = model.conditions().nodes(face.condition.index());
+            for (k, node) in nodes.iter().enumerate() {
+                sums[node.index()] += face.node(k);
+                count[node.index()] += 1;
+            }
+        }
+        (sums, count)
+    }
+
+    /// Sets every face's condition normal ([`ModelPart::condition_normals`]) to its centre
+    /// normal.
+    pub fn set_condition_normals(&self, model: &mut ModelPart) {
+        let condition_normals = model.condition_normals_mut();
+        for face in self.iter() {
+            condition_normals[face.condition.index()] = face.centre;
+        }
+    }
+
+    fn push(&mut self, c: ConditionIdx, normals: &FaceUnitNormals) {
         self.conditions.push(c);
         self.centres.push(normals.centre);
-        if !affine {
+        if !normals.is_uniform() {
             self.nodes.extend_from_slice(normals.nodes());
         }
         self.ends.push(self.nodes.len() as u32);
@@ -144,8 +169,7 @@ pub fn face_unit_normals(
                 let normals = Geometry::new(kind, &points)
                     .and_then(|g| g.face_unit_normals())
                     .map_err(|e| geometry_error(c, model, e))?;
-                let affine = matches!(kind, GeometryKind::Line2D2 | GeometryKind::Triangle3D3);
-                table.push(c, &normals, affine);
+                table.push(c, &normals);
             }
             Ok(table)
         })
@@ -168,20 +192,11 @@ pub fn compute_unit_normals(
     let conditions = conditions_of(model, part);
     model.nodal_data_mut().add_vector(VectorVar::Normal);
     let n_nodes = model.nodes().len();
-    let mut nodal = vec![Vector::zeros(); n_nodes];
-    // How many face nodes are this node (its adjacent faces): Kratos normalises it that
-    // often (Q38); 0 for a node of no face.
-    let mut count = vec![0u32; n_nodes];
-    // The per-face normals in parallel; the sums below in condition order, as Kratos' serial
-    // loop adds them (identical results for any thread count).
+    // The per-face normals in parallel; the sums in condition order, as Kratos' serial loop
+    // adds them (identical results for any thread count). `count`: how many faces a node
+    // has — Kratos normalises it that often (Q38).
     let faces = face_unit_normals(model, &conditions)?;
-    for face in faces.iter() {
-        let nodes = model.conditions().nodes(face.condition.index());
-        for (k, node) in nodes.iter().enumerate() {
-            nodal[node.index()] += face.node(k);
-            count[node.index()] += 1;
-        }
-    }
+    let (mut nodal, count) = faces.nodal_sums(model);
     // Normalise. Kratos' loop normalises node by node in condition order, a node once per
     // adjacent face; no other node's value enters, so each node is normalised `count` times
     // on its own, in parallel. Only the first normalisation can fail (afterwards the norm is
@@ -230,10 +245,7 @@ pub fn compute_unit_normals(
         }
         .into());
     }
-    let condition_normals = model.condition_normals_mut();
-    for face in faces.iter() {
-        condition_normals[face.condition.index()] = face.centre;
-    }
+    faces.set_condition_normals(model);
     // Step 1 resets NORMAL on every node of the part's conditions; the face nodes then get
     // their normalised sums.
     let mut reset = vec![false; n_nodes];

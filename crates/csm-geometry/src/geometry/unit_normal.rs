@@ -63,12 +63,19 @@ pub struct FaceUnitNormals {
     pub centre: Vector,
     nodes: [Vector; MAX_FACE_NODES],
     n_nodes: usize,
+    uniform: bool,
 }
 
 impl FaceUnitNormals {
     /// At the local coordinates of each node, in node order.
     pub fn nodes(&self) -> &[Vector] {
         &self.nodes[..self.n_nodes]
+    }
+
+    /// Whether the face is affine (Line2D2, Triangle3D3): one normal everywhere, every nodal
+    /// normal equal to [`centre`](Self::centre).
+    pub fn is_uniform(&self) -> bool {
+        self.uniform
     }
 }
 
@@ -123,6 +130,7 @@ impl Geometry<'_> {
             centre,
             nodes,
             n_nodes: points.len(),
+            uniform: affine,
         })
     }
 }

@@ -583,16 +583,8 @@ impl ContactSearch {
                 slaves.push((ids[c.index()], masters));
                 node_list.extend(model.conditions().nodes(c.index()).iter().copied());
             }
+            // A part's conditions are duplicate-free, so each id comes once.
             slaves.sort_unstable_by_key(|(id, _)| *id);
-            // A condition id appears once per part; keep the last entry of a repeated id, as
-            // repeated insertion did.
-            slaves.dedup_by(|later, earlier| {
-                let same = later.0 == earlier.0;
-                if same {
-                    std::mem::swap(later, earlier);
-                }
-                same
-            });
             let slaves: std::collections::BTreeMap<u32, Vec<u32>> = slaves.into_iter().collect();
             node_list.sort_unstable();
             node_list.dedup();

@@ -239,20 +239,7 @@ fn inward_faces(
         face_points.extend(local.iter().map(|&l| points[l]));
         let (probe, normal) =
             face_probe(*face_kind, face_points, lp).map_err(|err| element_error(model, e, err))?;
-        // A probe beyond every node along the face normal is outside: the inside test's
-        // answer without its iteration (exact, `Geometry::separated_along`).
-        if element.separated_along(&probe, &normal, tol) {
-            if !checked {
-                check_element(model, e, &element)?;
-                checked = true;
-            }
-            continue;
-        }
-        if element
-            .is_inside(&probe, tol)
-            .map_err(|err| element_error(model, e, err))?
-            .is_some()
-        {
+        if probe_inside(model, e, &element, (&probe, &normal), tol, &mut checked)? {
             inverted.extend_from_slice(local);
         }
     }
@@ -290,18 +277,7 @@ fn inward_nodes(
             .copied()
             .unwrap_or_else(Vector::zeros);
         let probe = x + normal * (lp * length);
-        if element.separated_along(&probe, &normal, tol) {
-            if !checked {
-                check_element(model, e, &element)?;
-                checked = true;
-            }
-            continue;
-        }
-        if element
-            .is_inside(&probe, tol)
-            .map_err(|err| element_error(model, e, err))?
-            .is_some()
-        {
+        if probe_inside(model, e, &element, (&probe, &normal), tol, &mut checked)? {
             inward.push(*n);
         }
     }
@@ -323,12 +299,27 @@ fn face_probe(
     Ok((centre + normal * (lp * length), normal))
 }
 
-/// The error the element's inside test would raise on its first iteration (a singular
-/// Jacobian), for an element whose inside tests were answered by `separated_along`.
-fn check_element(model: &ModelPart, e: usize, element: &Geometry<'_>) -> Result<(), Error> {
-    element
-        .check_local_coordinates()
-        .map_err(|err| element_error(model, e, err))
+/// Whether `probe` is inside element `e` (`element`), the probe lying off a face or node
+/// along `direction`. A probe beyond every node along `direction` is outside: the inside
+/// test's answer without its iteration (exact, `Geometry::separated_along`); the first such
+/// answer of an element (`checked`) still raises the error of the iteration's first step.
+fn probe_inside(
+    model: &ModelPart,
+    e: usize,
+    element: &Geometry<'_>,
+    (probe, direction): (&Point, &Vector),
+    tol: f64,
+    checked: &mut bool,
+) -> Result<bool, Error> {
+    let error = |err| element_error(model, e, err);
+    if element.separated_along(probe, direction, tol) {
+        if !*checked {
+            element.check_local_coordinates().map_err(error)?;
+            *checked = true;
+        }
+        return Ok(false);
+    }
+    Ok(element.is_inside(probe, tol).map_err(error)?.is_some())
 }
 
 /// The renumbering that inverts a geometry of `kind` in robust mode: new node `i` is old node
