@@ -103,17 +103,31 @@ impl FaceNormals {
 
     /// Per node of `model`, the sum of the nodal normals of its faces, added in the table's
     /// face order (Kratos' order), and the number of its faces (0: a node of no face).
+    ///
+    /// The nodes are split into one block of consecutive indices per thread, summed in
+    /// parallel: each block scans every face in order and adds only to its own nodes, so every
+    /// node's sum is the serial one, bit for bit, for any thread count.
     pub fn nodal_sums(&self, model: &ModelPart) -> (Vec<Vector>, Vec<u32>) {
         let n_nodes = model.nodes().len();
         let mut sums = vec![Vector::zeros(); n_nodes];
         let mut count = vec![0u32; n_nodes];
-        for face in self.iter() {
-            let nodes = model.conditions().nodes(face.condition.index());
-            for (k, node) in nodes.iter().enumerate() {
-                sums[node.index()] += face.node(k);
-                count[node.index()] += 1;
-            }
-        }
+        let block = n_nodes.div_ceil(rayon::current_num_threads()).max(1);
+        let conditions = model.conditions();
+        sums.par_chunks_mut(block)
+            .zip(count.par_chunks_mut(block))
+            .enumerate()
+            .for_each(|(b, (sums, count))| {
+                let first = b * block;
+                let range = first..first + sums.len();
+                for face in self.iter() {
+                    for (k, node) in conditions.nodes(face.condition.index()).iter().enumerate() {
+                        if range.contains(&node.index()) {
+                            sums[node.index() - first] += face.node(k);
+                            count[node.index() - first] += 1;
+                        }
+                    }
+                }
+            });
         (sums, count)
     }
 

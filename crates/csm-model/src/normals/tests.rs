@@ -127,3 +127,54 @@ fn only_the_given_part_is_computed() {
     assert_close(&mp.condition_normals()[1], [0., 0., 0.]);
     assert_close(&nodal(&mp)[4], [0., 0., 0.]);
 }
+
+#[test]
+fn nodal_sums_are_the_serial_sums_for_any_thread_count() {
+    // A bumpy 12×12 grid of triangles and quadrilaterals; node ids scrambled so that a face's
+    // nodes fall into different blocks.
+    let n = 13;
+    let id = |i: usize, j: usize| ((i * n + j) * 37 % (n * n)) as u32 + 1;
+    let mut pts = vec![[0.0; 3]; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            let (x, y) = (i as f64 * 0.1, j as f64 * 0.1);
+            pts[id(i, j) as usize - 1] = [x, y, (3.0 * x).sin() * (2.0 * y).cos() * 0.05];
+        }
+    }
+    let mut faces: Vec<(GeometryKind, Vec<u32>)> = Vec::new();
+    for i in 0..n - 1 {
+        for j in 0..n - 1 {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            if (i + j) % 3 == 0 {
+                faces.push((GeometryKind::Quadrilateral3D4, vec![a, b, c, d]));
+            } else {
+                faces.push((GeometryKind::Triangle3D3, vec![a, b, c]));
+                faces.push((GeometryKind::Triangle3D3, vec![a, c, d]));
+            }
+        }
+    }
+    let refs: Vec<(GeometryKind, &[u32])> = faces.iter().map(|(k, v)| (*k, &v[..])).collect();
+    let mp = model(&pts, &refs);
+    let all: Vec<ConditionIdx> = (0..refs.len() as u32).map(ConditionIdx).collect();
+    let table = face_unit_normals(&mp, &all).unwrap();
+    let mut serial = (vec![Vector::zeros(); n * n], vec![0u32; n * n]);
+    for face in table.iter() {
+        for (k, node) in mp
+            .conditions()
+            .nodes(face.condition.index())
+            .iter()
+            .enumerate()
+        {
+            serial.0[node.index()] += face.node(k);
+            serial.1[node.index()] += 1;
+        }
+    }
+    for threads in [1, 2, 3, 7] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let sums = pool.install(|| table.nodal_sums(&mp));
+        assert_eq!(sums, serial, "{threads} threads");
+    }
+}

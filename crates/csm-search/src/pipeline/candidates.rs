@@ -258,6 +258,9 @@ pub(crate) fn slave_candidates(
         Compatibility::Kratos => SatMode::Kratos,
         Compatibility::Robust => SatMode::Robust,
     };
+    if found.is_empty() {
+        return Ok(status.truncated);
+    }
     let slave_id = conditions.ids()[s.index()];
     let slave_normal = model.condition_normals()[s.index()];
     // kdop_18: the slave's 18-DOP enlarged like the OBBs; in robust mode first swept along

@@ -5,33 +5,60 @@ use csm_geometry::math::{Point, Real};
 
 use super::tree::Node;
 
+/// Ranges of at least this many points build their two halves in parallel.
+const PARALLEL_MIN: usize = 16_384;
+
 /// Builds the tree over the parallel arrays `items`/`points` (permuting them) into `nodes` and
 /// returns the root, `None` when there is no point.
 ///
+/// Large ranges build their two halves in parallel, each into its own arena that is then
+/// appended: the arena is the serial build's (pre-order: a node, its left subtree, its right
+/// subtree), node for node, for any thread count.
+///
 /// `bucket_size >= 1` and `points.len() <= u32::MAX / 2` are checked by the caller.
-pub(super) fn build<T: Copy>(
+pub(super) fn build<T: Copy + Send>(
     items: &mut [T],
     points: &mut [Point],
     nodes: &mut Vec<Node>,
     bucket_size: usize,
+) -> Option<u32> {
+    build_with(items, points, nodes, bucket_size, PARALLEL_MIN)
+}
+
+/// [`build`], splitting ranges of at least `parallel_min` points into parallel halves.
+pub(super) fn build_with<T: Copy + Send>(
+    items: &mut [T],
+    points: &mut [Point],
+    nodes: &mut Vec<Node>,
+    bucket_size: usize,
+    parallel_min: usize,
 ) -> Option<u32> {
     debug_assert!(bucket_size >= 1);
     debug_assert_eq!(items.len(), points.len());
     if points.is_empty() {
         return None;
     }
-    let n = points.len();
-    let mut entries = Entries { items, points };
-    Some(build_range(&mut entries, nodes, 0, n, bucket_size))
+    let entries = Entries {
+        items,
+        points,
+        base: 0,
+    };
+    Some(build_range(entries, nodes, (bucket_size, parallel_min)))
 }
 
-/// The two parallel arrays, swapped together.
+/// A range of the two parallel arrays, swapped together; `base` is the position of its first
+/// entry in the whole arrays.
 struct Entries<'a, T> {
     items: &'a mut [T],
     points: &'a mut [Point],
+    base: usize,
 }
 
-impl<T> Entries<'_, T> {
+impl<'a, T> Entries<'a, T> {
+    fn len(&self) -> usize {
+        self.points.len()
+    }
+
     fn swap(&mut self, i: usize, j: usize) {
         self.items.swap(i, j);
         self.points.swap(i, j);
@@ -40,35 +67,63 @@ impl<T> Entries<'_, T> {
     fn v(&self, i: usize, axis: usize) -> Real {
         self.points[i][axis]
     }
+
+    /// The entries before `m` and those from `m` on.
+    fn split_at(self, m: usize) -> (Entries<'a, T>, Entries<'a, T>) {
+        let (items_lo, items_hi) = self.items.split_at_mut(m);
+        let (points_lo, points_hi) = self.points.split_at_mut(m);
+        (
+            Entries {
+                items: items_lo,
+                points: points_lo,
+                base: self.base,
+            },
+            Entries {
+                items: items_hi,
+                points: points_hi,
+                base: self.base + m,
+            },
+        )
+    }
 }
 
-/// Builds the subtree over the non-empty range `b..e` and returns its node index.
-fn build_range<T>(
-    entries: &mut Entries<'_, T>,
+/// Builds the subtree over the non-empty `entries`, appending its nodes to `nodes` (in
+/// pre-order), and returns its node index.
+/// `sizes`: the bucket size and the smallest range built in parallel halves.
+fn build_range<T: Send>(
+    mut entries: Entries<'_, T>,
     nodes: &mut Vec<Node>,
-    b: usize,
-    e: usize,
-    bucket_size: usize,
+    sizes: (usize, usize),
 ) -> u32 {
-    debug_assert!(b < e);
-    let n = e - b;
+    let (bucket_size, parallel_min) = sizes;
+    let n = entries.len();
+    debug_assert!(n > 0);
     // Fits: there are fewer than 2·len nodes and the caller checked len <= u32::MAX / 2.
     let index = nodes.len() as u32;
     if n <= bucket_size {
         nodes.push(Node::Leaf {
-            start: b as u32,
-            end: e as u32,
+            start: entries.base as u32,
+            end: (entries.base + n) as u32,
         });
         return index;
     }
-    let axis = widest_axis(entries.points, b, e);
-    let m = b + n / 2;
-    select(entries, b, e, m, axis);
-    let cut = cut_value(entries, b, m, axis);
+    let axis = widest_axis(entries.points);
+    let m = n / 2;
+    select(&mut entries, m, axis);
+    let cut = cut_value(&entries, m, axis);
     // Placeholder, filled once the children exist.
     nodes.push(Node::Leaf { start: 0, end: 0 });
-    let left = build_range(entries, nodes, b, m, bucket_size);
-    let right = build_range(entries, nodes, m, e, bucket_size);
+    let (lo, hi) = entries.split_at(m);
+    let (left, right) = if n >= parallel_min {
+        let (mut left_nodes, mut right_nodes) = (Vec::new(), Vec::new());
+        rayon::join(
+            || build_range(lo, &mut left_nodes, sizes),
+            || build_range(hi, &mut right_nodes, sizes),
+        );
+        (append(nodes, left_nodes), append(nodes, right_nodes))
+    } else {
+        (build_range(lo, nodes, sizes), build_range(hi, nodes, sizes))
+    };
     nodes[index as usize] = Node::Inner {
         axis: axis as u8,
         cut,
@@ -80,12 +135,37 @@ fn build_range<T>(
     index
 }
 
-/// The axis of maximum spread `max p[k] − min p[k]` over `b..e`; ties go to the lowest axis
+/// Appends the arena `sub` of a subtree (root at its index 0) to `nodes`, shifting its child
+/// links, and returns the subtree's root index in `nodes`.
+fn append(nodes: &mut Vec<Node>, sub: Vec<Node>) -> u32 {
+    let offset = nodes.len() as u32;
+    nodes.extend(sub.into_iter().map(|node| match node {
+        Node::Inner {
+            axis,
+            cut,
+            left_max,
+            right_min,
+            left,
+            right,
+        } => Node::Inner {
+            axis,
+            cut,
+            left_max,
+            right_min,
+            left: left + offset,
+            right: right + offset,
+        },
+        leaf @ Node::Leaf { .. } => leaf,
+    }));
+    offset
+}
+
+/// The axis of maximum spread `max p[k] − min p[k]` of `points`; ties go to the lowest axis
 /// (Kratos compares spreads with a strict `>`, starting from axis 0).
-fn widest_axis(points: &[Point], b: usize, e: usize) -> usize {
-    let mut lo = points[b];
-    let mut hi = points[b];
-    for p in &points[b + 1..e] {
+fn widest_axis(points: &[Point]) -> usize {
+    let mut lo = points[0];
+    let mut hi = points[0];
+    for p in &points[1..] {
         for k in 0..3 {
             if p[k] < lo[k] {
                 lo[k] = p[k];
@@ -107,12 +187,12 @@ fn widest_axis(points: &[Point], b: usize, e: usize) -> usize {
     axis
 }
 
-/// Kratos' Hoare-style quickselect on `axis` over `b..e`: afterwards position `m` holds the
+/// Kratos' Hoare-style quickselect on `axis` over the whole range: afterwards position `m` holds the
 /// value it would hold in sorted order, everything before it is `<=` and everything after it
 /// `>=` (reference §6.1, reproduced step by step so that the permutation matches Kratos').
-fn select<T>(entries: &mut Entries<'_, T>, b: usize, e: usize, m: usize, axis: usize) {
-    let mut left = b;
-    let mut right = e - 1;
+fn select<T>(entries: &mut Entries<'_, T>, m: usize, axis: usize) {
+    let mut left = 0;
+    let mut right = entries.len() - 1;
     while left < right {
         let mut i = left;
         if entries.v(i, axis) > entries.v(right, axis) {
@@ -153,18 +233,18 @@ fn select<T>(entries: &mut Entries<'_, T>, b: usize, e: usize, m: usize, axis: u
 }
 
 /// Kratos' cut value: the mean of the largest value left of the median (first maximum, strict
-/// `>` scan from `b`) and the median, except when that maximum is at `b`, where Kratos'
+/// `>` scan from the start) and the median, except when that maximum is the first entry, where Kratos'
 /// iterator slip makes it the median itself (reference §6.1). Either is a valid separator:
 /// left values are `<= cut`, right values `>= cut`.
-fn cut_value<T>(entries: &Entries<'_, T>, b: usize, m: usize, axis: usize) -> Real {
-    let mut k = b;
-    for i in b + 1..m {
+fn cut_value<T>(entries: &Entries<'_, T>, m: usize, axis: usize) -> Real {
+    let mut k = 0;
+    for i in 1..m {
         if entries.v(i, axis) > entries.v(k, axis) {
             k = i;
         }
     }
     let median = entries.v(m, axis);
-    if k == b {
+    if k == 0 {
         return median;
     }
     let below = entries.v(k, axis);

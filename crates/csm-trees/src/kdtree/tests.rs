@@ -320,3 +320,87 @@ fn refit_keeps_the_tree_and_tightens_the_bounds() {
         assert!(out.contains(i), "point {i} not found after the refit");
     }
 }
+
+/// A cloud of distinct, irregular coordinates (no ties) in [-1, 1)³.
+fn irregular_cloud(n: usize) -> Vec<(usize, Point)> {
+    let f = |i: usize, k: f64| ((i as f64 + 1.0) * k).sin();
+    (0..n)
+        .map(|i| (i, p(f(i, 12.9898), f(i, 78.233), f(i, 37.719))))
+        .collect()
+}
+
+#[test]
+fn parallel_halves_build_the_serial_arena() {
+    for (cloud, bucket) in [(lcg_cloud(3000, 7), 4), (irregular_cloud(2500), 3)] {
+        let build = |parallel_min: usize| {
+            let mut items: Vec<usize> = cloud.iter().map(|(i, _)| *i).collect();
+            let mut points: Vec<Point> = cloud.iter().map(|(_, x)| *x).collect();
+            let mut nodes = Vec::new();
+            let root =
+                super::build::build_with(&mut items, &mut points, &mut nodes, bucket, parallel_min);
+            (root, items, points, nodes)
+        };
+        let serial = build(usize::MAX);
+        for parallel_min in [1, 2, 64, 1000] {
+            assert_eq!(
+                build(parallel_min),
+                serial,
+                "parallel halves from {parallel_min} points"
+            );
+        }
+    }
+}
+
+#[test]
+fn queries_missing_the_extent_find_nothing_and_agree_with_brute_force() {
+    let cloud = irregular_cloud(500);
+    let tree = KdTree::new(&cloud, 4).unwrap();
+    let extent = tree.bounds().unwrap();
+    assert_eq!(
+        Some(extent),
+        crate::Aabb::from_points(cloud.iter().map(|(_, x)| x)),
+        "the stored extent is the points' box"
+    );
+    let (mut got, mut want) = (Vec::new(), Vec::new());
+    // The point closest to a face of the box, and centres at, just inside and just outside
+    // the radius that reaches it.
+    for axis in 0..3 {
+        let nearest = cloud
+            .iter()
+            .min_by(|a, b| a.1[axis].total_cmp(&b.1[axis]))
+            .unwrap()
+            .1;
+        for offset in [0.5, 1e-3] {
+            let mut center = nearest;
+            center[axis] -= offset;
+            let exact = super::query::in_radius::box_distance2(&extent, &center).sqrt();
+            for radius in [
+                exact * (1.0 - 1e-12),
+                exact,
+                exact * (1.0 + 1e-12),
+                exact + 0.3,
+            ] {
+                tree.in_radius(&center, radius, 1000, &mut got).unwrap();
+                brute_force::in_radius(&cloud, &center, radius, &mut want);
+                got.sort_unstable();
+                want.sort_unstable();
+                assert_eq!(got, want, "radius {radius} around {center:?}");
+            }
+            let mut hi = center;
+            for radius in [offset * 0.5, offset, offset * 2.0] {
+                hi[axis] = center[axis] + radius;
+                tree.in_box(&center, &hi, 1000, &mut got).unwrap();
+                brute_force::in_box(&cloud, &center, &hi, &mut want);
+                got.sort_unstable();
+                want.sort_unstable();
+                assert_eq!(got, want, "box {center:?} – {hi:?}");
+            }
+        }
+    }
+    tree.in_radius(&p(5.0, 0.0, 0.0), 3.9, 1000, &mut got)
+        .unwrap();
+    assert!(got.is_empty(), "a sphere short of the box finds nothing");
+    tree.in_radius(&p(5.0, 0.0, 0.0), 6.5, 1000, &mut got)
+        .unwrap();
+    assert_eq!(got.len(), 500, "a sphere around the box finds every point");
+}

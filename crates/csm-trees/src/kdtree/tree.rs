@@ -12,7 +12,7 @@ pub(crate) const KRATOS_BUCKET_SIZE: usize = 4;
 
 /// A node of the tree, stored in one arena. Children of an inner node are never empty (with
 /// `bucket_size >= 1` both halves of a split hold at least one point).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Node {
     /// A bucket: the entries `start..end` of the permuted entry arrays, in stored order.
     Leaf { start: u32, end: u32 },
@@ -54,11 +54,14 @@ pub struct KdTree<T> {
     pub(crate) nodes: Vec<Node>,
     /// The root node; `None` for an empty tree.
     pub(crate) root: Option<u32>,
+    /// The bounding box of all points (set with `root`): a query whose region misses it finds
+    /// nothing without a descent.
+    pub(crate) extent: Option<Aabb>,
     /// The maximum number of points in a leaf.
     pub(crate) bucket_size: usize,
 }
 
-impl<T: Copy> KdTree<T> {
+impl<T: Copy + Send> KdTree<T> {
     /// Builds the tree over `entries` with leaves of at most `bucket_size` points (Kratos'
     /// default is 4, see [`KdTree::with_kratos_bucket_size`]).
     ///
@@ -71,6 +74,7 @@ impl<T: Copy> KdTree<T> {
             points: Vec::new(),
             nodes: Vec::new(),
             root: None,
+            extent: None,
             bucket_size: KRATOS_BUCKET_SIZE,
         };
         tree.set_bucket_size(bucket_size)?;
@@ -124,9 +128,10 @@ impl<T: Copy> KdTree<T> {
     /// left empty (every entry is dropped), so a failed refit can never be queried by mistake.
     pub fn refit(&mut self, position: impl FnMut(T) -> Point) -> Result<(), Error> {
         self.move_points(position)?;
-        if let Some(root) = self.root {
-            refit_node(&mut self.nodes, &self.points, root);
-        }
+        self.extent = self.root.map(|root| {
+            let (lo, hi) = refit_node(&mut self.nodes, &self.points, root);
+            Aabb::new(lo, hi)
+        });
         Ok(())
     }
 
@@ -145,6 +150,7 @@ impl<T: Copy> KdTree<T> {
             self.points.clear();
             self.nodes.clear();
             self.root = None;
+            self.extent = None;
             return Err(Error::non_finite("point"));
         }
         Ok(())
@@ -168,6 +174,7 @@ impl<T: Copy> KdTree<T> {
             &mut self.nodes,
             self.bucket_size,
         );
+        self.extent = Aabb::from_points(self.points.iter());
     }
 }
 
@@ -200,7 +207,7 @@ impl<T> KdTree<T> {
 
     /// The bounding box of all points; `None` for an empty tree.
     pub fn bounds(&self) -> Option<Aabb> {
-        Aabb::from_points(self.points.iter())
+        self.extent
     }
 }
 

@@ -29,12 +29,17 @@ impl<T: Copy> KdTree<T> {
         out.clear();
         check_point(min, "box corner")?;
         check_point(max, "box corner")?;
-        let Some(root) = self.root else {
+        let (Some(root), Some(extent)) = (self.root, &self.extent) else {
             return Ok(QueryStatus::default());
         };
+        let aabb = Aabb::new(*min, *max);
+        if !aabb.intersects(extent) {
+            // No point lies in the query box (inclusive comparisons: exact).
+            return Ok(QueryStatus::default());
+        }
         let mut search = BoxSearch {
             tree: self,
-            aabb: Aabb::new(*min, *max),
+            aabb,
             max_results,
             out,
         };

@@ -4,6 +4,7 @@ use std::ops::ControlFlow;
 
 use csm_geometry::math::{Point, Real};
 
+use crate::aabb::Aabb;
 use crate::error::{Error, ErrorKind, check_point};
 use crate::kdtree::tree::{KdTree, Node};
 use crate::query_status::QueryStatus;
@@ -35,9 +36,13 @@ impl<T: Copy> KdTree<T> {
         if radius < 0.0 {
             return Err(Error::new(ErrorKind::NegativeRadius));
         }
-        let Some(root) = self.root else {
+        let (Some(root), Some(extent)) = (self.root, &self.extent) else {
             return Ok(QueryStatus::default());
         };
+        if box_distance2(extent, center) >= radius * radius {
+            // No point is closer than the box (exactly: see `box_distance2`; both sides finite).
+            return Ok(QueryStatus::default());
+        }
         let mut search = RadiusSearch {
             tree: self,
             center,
@@ -112,6 +117,26 @@ impl<T: Copy> RadiusSearch<'_, T> {
             }
         }
     }
+}
+
+/// The squared distance from `c` to `aabb`, computed with the operations of [`distance2`]:
+/// for every point `p` of the box, `distance2(p, c) >= box_distance2(aabb, c)` holds for the
+/// floating-point values themselves, because rounding is monotone (`|p[k] − c[k]|` rounds to at
+/// least the rounded gap to the box face, squares and sums of non-negative terms keep the
+/// order). So a query whose box distance is not below `radius²` finds nothing, exactly.
+pub(crate) fn box_distance2(aabb: &Aabb, c: &Point) -> Real {
+    let mut sum = 0.0;
+    for k in 0..3 {
+        let d = if c[k] < aabb.mins[k] {
+            aabb.mins[k] - c[k]
+        } else if c[k] > aabb.maxs[k] {
+            c[k] - aabb.maxs[k]
+        } else {
+            0.0
+        };
+        sum += d * d;
+    }
+    sum
 }
 
 /// Squared distance, accumulated over the axes in the order x, y, z (Kratos' order; the
