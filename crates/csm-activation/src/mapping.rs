@@ -283,7 +283,7 @@ pub fn normal_gap_process(
             }
         }
     }
-    let coords = model.nodes().coordinates().to_vec();
+    let coords = model.nodes().coordinates();
     let mut aux = model
         .nodal_data()
         .vector(VectorVar::AuxiliarCoordinates, 0)
@@ -423,25 +423,32 @@ pub fn normal_gap_process(
         iteration += 1;
     }
     report.iterations = iteration;
-    // 5. ComputeNormalGap (master side, then slave side).
-    let normals = model
-        .nodal_data()
-        .vector(VectorVar::Normal, 0)
-        .map(<[Vector]>::to_vec)
-        .unwrap_or_default();
-    let nflags = model.nodes().flags().to_vec();
+    // 5. ComputeNormalGap (master side, then slave side): the new values (in that order; a
+    // node on both sides takes its last), then written.
+    let gaps: Vec<(usize, Real)> = {
+        let normals = model.nodal_data().vector(VectorVar::Normal, 0);
+        let nflags = model.nodes().flags();
+        let coords = model.nodes().coordinates();
+        s.master_nodes
+            .iter()
+            .chain(&s.slave_nodes)
+            .filter_map(|n| {
+                let i = n.index();
+                if nflags[i].is(Flag::SLAVE) != o {
+                    Some((i, 0.0))
+                } else if norm_kratos(&aux[i]) > EPS {
+                    let normal = normals.map_or_else(Vector::zeros, |col| col[i]);
+                    Some((i, (coords[i].coords - aux[i]).dot(&(-normal))))
+                } else {
+                    None
+                }
+            })
+            .collect()
+    };
     let data = model.nodal_data_mut();
     if let Some(col) = data.scalar_mut(ScalarVar::NormalGap, 0) {
-        for n in s.master_nodes.iter().chain(&s.slave_nodes) {
-            let i = n.index();
-            if nflags[i].is(Flag::SLAVE) == o {
-                if norm_kratos(&aux[i]) > EPS {
-                    let normal = normals.get(i).copied().unwrap_or_else(Vector::zeros);
-                    col[i] = (coords[i].coords - aux[i]).dot(&(-normal));
-                }
-            } else {
-                col[i] = 0.0;
-            }
+        for (i, g) in gaps {
+            col[i] = g;
         }
     }
     if let Some(col) = data.scalar_mut(ScalarVar::NodalArea, 0) {

@@ -8,7 +8,7 @@ use csm_geometry::math::{EPS, Point, Real, Vector};
 use csm_geometry::{Geometry, Kdop18};
 use csm_model::{
     ConditionId, ConditionIdx, Flag, ModelPart, NodalHMode, NodeIdx, NormalsMode, PartIdx,
-    ScalarVar, VectorVar, assign_nodal_h, compute_unit_normals,
+    ScalarVar, UnitNormalsSnapshot, VectorVar, assign_nodal_h, compute_unit_normals,
 };
 use csm_trees::KdTree;
 use rayon::prelude::*;
@@ -903,7 +903,9 @@ fn update_mortar_conditions(
 /// CheckPairing (§10.1) of MappingCheck, after the search filled the INDEX_MAPs: Advanced sets
 /// `DISTANCE_THRESHOLD` from the mean NODAL_H; NormalGapProcess (`NORMAL_GAP := 1e12`, the
 /// mortar mapping that removes the entries without overlap and erases their paired
-/// conditions); the dynamic shift is undone (`restore`); the unit normals are recomputed;
+/// conditions); the dynamic shift is undone (`restore`); the unit normals are recomputed
+/// (without `restore` the caller computed them on this sub with the same coordinates, and
+/// their values are written back instead);
 /// CreateAuxiliaryConditions for the surviving new entries; ComputeWeightedReaction;
 /// ComputeActiveInactiveNodes (with the multiplier guesses and, for frictional contact — a
 /// SLIP root model part — the SLIP rule). Returns the activation's warnings.
@@ -945,6 +947,14 @@ fn check_pairing(
         inverted,
         dim,
     };
+    // Without a dynamic shift the coordinates are those of the step's unit normals: the
+    // unit normals after the mapping are the same values, kept here rather than recomputed
+    // (the mapping overwrites the nodal ones with its mean normals).
+    let unit_normals = if restore.is_none() {
+        UnitNormalsSnapshot::take(model, Some(sub))
+    } else {
+        None
+    };
     let report = act::normal_gap_process(model, sub, &settings).map_err(activation_error)?;
     crate::trace::mark("mapping");
     let ids = model.conditions().ids();
@@ -970,7 +980,10 @@ fn check_pairing(
         Compatibility::Kratos => NormalsMode::Kratos,
         Compatibility::Robust => NormalsMode::Once,
     };
-    compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
+    match unit_normals {
+        Some(kept) => kept.restore(model),
+        None => compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?,
+    }
     crate::trace::mark("unit normals");
     // CreateAuxiliaryConditions: slave side, entries without a paired condition.
     if p.create_auxiliar_conditions {

@@ -789,3 +789,29 @@ fn morton_order_is_a_deterministic_z_curve_permutation() {
         assert!(xs[k] < mx && ys[k] < my, "{k}: ({}, {})", xs[k], ys[k]);
     }
 }
+
+#[test]
+fn the_unit_normals_after_the_mapping_are_those_calculate_unit_normals_writes() {
+    // Curved plates, so that the mapping's mean normals (normalised once) and Kratos' unit
+    // normals (normalised once per adjacent face) differ: a static step keeps the unit
+    // normals of its start instead of computing them again after the mapping.
+    let s = setup(r#"{"type_search": "in_radius_with_obb"}"#, "");
+    let mut model = plates(8, -0.005, false);
+    for p in model.nodes_mut().coordinates_mut() {
+        p.z += 0.05 * (1.3 * p.x).sin() * (0.7 * p.y + 0.2).cos();
+    }
+    let mut search = ContactSearch::initialize(&mut model, &s).unwrap();
+    let result = search.step(&mut model).unwrap();
+    assert!(result.n_pairs() > 0);
+    let sub = model.find_part("Contact.ContactSub0").unwrap();
+    let mut again = model.clone();
+    csm_model::compute_unit_normals(&mut again, Some(sub), csm_model::NormalsMode::Kratos).unwrap();
+    let normal = |m: &ModelPart| {
+        m.nodal_data()
+            .vector(csm_model::VectorVar::Normal, 0)
+            .unwrap()
+            .to_vec()
+    };
+    assert_eq!(normal(&model), normal(&again), "nodal NORMAL");
+    assert_eq!(model.condition_normals(), again.condition_normals());
+}
