@@ -36,10 +36,11 @@ pub use error::Error;
 pub use mapping::{
     MAPPER_ABSOLUTE_TOLERANCE, MAPPER_MAX_ITERATIONS, MAPPER_RELATIVE_TOLERANCE, MappingReport,
     MappingSettings, NORMAL_GAP_SENTINEL, RemovedEntry, mean_h, normal_gap_process,
+    normal_gap_process_keeping,
 };
 pub use multiplier::{MultiplierKind, MultiplierSettings};
 pub use overlap::{mapping_normals, overlap_measure};
-pub use weighted_gap::{WEIGHTED_GAP_AREA_RATIO, compute_weighted_gap};
+pub use weighted_gap::{KnownGaps, WEIGHTED_GAP_AREA_RATIO, compute_weighted_gap};
 
 /// Re-exported so that callers can choose the segmentation rules without naming
 /// `csm-geometry`.

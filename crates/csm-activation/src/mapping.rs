@@ -3,8 +3,8 @@
 use csm_geometry::math::{EPS, Point, Real, Vector, norm_kratos};
 use csm_geometry::{Geometry, MAX_FACE_NODES};
 use csm_geometry::{
-    MortarFace, MortarMode, MortarOperators, OperatorSettings, SegmentationSettings, dual_basis,
-    exact_segmentation, integration_points, mortar_operators,
+    MortarFace, MortarMode, MortarOperators, OperatorSettings, Segmentation, SegmentationSettings,
+    dual_basis, exact_segmentation, integration_points, mortar_operators,
 };
 use csm_model::{
     ConditionId, ConditionIdx, Flag, ModelPart, NodeIdx, PartIdx, ScalarVar, VectorVar,
@@ -13,6 +13,7 @@ use csm_model::{
 use rayon::prelude::*;
 
 use crate::error::Error;
+use crate::weighted_gap::{KnownGap, KnownGaps, PairGap, segmented_pair_gap, slave_area};
 
 /// `NORMAL_GAP` before the mapping (CheckPairing step a): a slave node nothing was mapped onto
 /// keeps it.
@@ -128,10 +129,18 @@ pub(crate) struct FaceData {
 }
 
 pub(crate) fn face_data(model: &ModelPart, c: ConditionIdx) -> FaceData {
+    face_data_with(model, c, model.nodal_data().vector(VectorVar::Normal, 0))
+}
+
+/// [`face_data`] with the nodal normals taken from `normals` (by node index).
+pub(crate) fn face_data_with(
+    model: &ModelPart,
+    c: ConditionIdx,
+    normals: Option<&[Vector]>,
+) -> FaceData {
     let nodes = model.conditions().nodes(c.index());
     let mut points = Vec::new();
     model.gather_points(nodes, &mut points);
-    let normals = model.nodal_data().vector(VectorVar::Normal, 0);
     let nodal_normals = nodes
         .iter()
         .map(|n| normals.map_or(Vector::zeros(), |col| col[n.index()]))
@@ -189,6 +198,17 @@ pub(crate) fn mean_normals(
 struct SlaveMapping {
     kept: Vec<MappedPair>,
     removed: Vec<RemovedEntry>,
+    /// With [`WeightedGapInputs`]: the weighted-gap contribution of every kept pair.
+    gaps: Vec<KnownGap>,
+}
+
+/// What the mapping needs to compute the weighted gap of its kept pairs as well
+/// ([`normal_gap_process_keeping`]).
+#[derive(Clone, Copy)]
+struct WeightedGapInputs<'a> {
+    /// The nodal `NORMAL` the weighted gap will read, by node index.
+    unit_normals: &'a [Vector],
+    dim: usize,
 }
 
 /// Segments every INDEX_MAP entry of slave condition `sc`: entries without overlap are
@@ -198,6 +218,7 @@ fn map_slave(
     sc: ConditionIdx,
     seg_settings: &SegmentationSettings,
     op_settings: &OperatorSettings,
+    weighted_gap: Option<WeightedGapInputs<'_>>,
 ) -> Result<SlaveMapping, Error> {
     let mut out = SlaveMapping::default();
     let entries: Vec<(ConditionId, Option<ConditionId>)> = model.index_map(sc).iter().collect();
@@ -207,6 +228,8 @@ fn map_slave(
     let sdata = face_data(model, sc);
     let slave = make_face(model, sc, &sdata)?;
     let slave_id = model.conditions().ids()[sc.index()];
+    // With the weighted gap: the slave's face data with its nodal normals, and its area.
+    let mut slave_for_gap: Option<(FaceData, Result<Real, Error>)> = None;
     for (master_id, paired) in entries {
         let Some(mc) = model
             .conditions()
@@ -234,17 +257,132 @@ fn map_slave(
         out.kept.push(MappedPair {
             slave: sc,
             master: mc,
-            operators,
+            operators: PairOperators::new(operators),
         });
+        // The weighted gap's segmentation of a face pair would be this one: it depends on
+        // the coordinates and the slave's condition normal only (not on the nodal normals,
+        // which differ), and both are the same then. Lines (2D) project along nodal normals.
+        if let Some(inputs) = weighted_gap
+            && slave.geometry().kind().local_dim() == 2
+        {
+            let (slave_u, area) = slave_for_gap
+                .get_or_insert_with(|| slave_gap_data(model, sc, &sdata, inputs.unit_normals));
+            let gap = kept_pair_gap(model, (sc, mc), &seg, (slave_u, area), inputs);
+            out.gaps.push(((sc, mc), gap));
+        }
     }
     Ok(out)
+}
+
+/// The weighted-gap contribution of the kept pair `(sc, mc)` whose segmentation is `seg`:
+/// the faces with the weighted gap's nodal normals.
+fn kept_pair_gap(
+    model: &ModelPart,
+    (sc, mc): (ConditionIdx, ConditionIdx),
+    seg: &Segmentation,
+    (sdata, slave_area): (&FaceData, &Result<Real, Error>),
+    inputs: WeightedGapInputs<'_>,
+) -> Result<Option<PairGap>, Error> {
+    let mdata = face_data_with(model, mc, Some(inputs.unit_normals));
+    let slave = make_face(model, sc, sdata)?;
+    let master = make_face(model, mc, &mdata)?;
+    // The weighted gap's order: both faces, then the area.
+    let slave_area = slave_area.clone()?;
+    segmented_pair_gap(
+        model,
+        sc,
+        (sdata, &slave, slave_area),
+        (&mdata, &master),
+        seg,
+        inputs.dim,
+    )
+}
+
+/// The slave's face data with the weighted gap's nodal normals (`sdata` with other nodal
+/// normals), and its area.
+fn slave_gap_data(
+    model: &ModelPart,
+    sc: ConditionIdx,
+    sdata: &FaceData,
+    unit_normals: &[Vector],
+) -> (FaceData, Result<Real, Error>) {
+    let data = FaceData {
+        points: sdata.points.clone(),
+        normal: sdata.normal,
+        nodal_normals: face_data_with(model, sc, Some(unit_normals)).nodal_normals,
+    };
+    let area = slave_area(model, sc, &data);
+    (data, area)
 }
 
 /// One pair with an overlap: its operators.
 struct MappedPair {
     slave: ConditionIdx,
     master: ConditionIdx,
-    operators: MortarOperators,
+    operators: PairOperators,
+}
+
+/// A pair's `D` and `M`, in fixed-size arrays for faces of up to four nodes (every kind the
+/// segmentation supports; no heap block per pair), else as computed.
+enum PairOperators {
+    Small {
+        d: [[Real; 4]; 4],
+        m: [[Real; 4]; 4],
+        slave_nodes: usize,
+    },
+    General(MortarOperators),
+}
+
+impl PairOperators {
+    fn new(operators: MortarOperators) -> PairOperators {
+        let (ns, nm) = (operators.d.nrows(), operators.m.ncols());
+        if ns > 4 || nm > 4 || operators.d.ncols() != ns || operators.m.nrows() != ns {
+            return PairOperators::General(operators);
+        }
+        let mut d = [[0.0; 4]; 4];
+        let mut m = [[0.0; 4]; 4];
+        for (i, (d_row, m_row)) in d.iter_mut().zip(&mut m).enumerate().take(ns) {
+            for (j, v) in d_row.iter_mut().enumerate().take(ns) {
+                *v = operators.d[(i, j)];
+            }
+            for (j, v) in m_row.iter_mut().enumerate().take(nm) {
+                *v = operators.m[(i, j)];
+            }
+        }
+        PairOperators::Small {
+            d,
+            m,
+            slave_nodes: ns,
+        }
+    }
+
+    /// `D(i, i)`.
+    fn d_diagonal(&self, i: usize) -> Real {
+        match self {
+            PairOperators::Small { d, .. } => d[i][i],
+            PairOperators::General(o) => o.d[(i, i)],
+        }
+    }
+
+    /// [`MortarOperators::residual_into`], with the same arithmetic.
+    fn residual_into(&self, master_values: &[Real], slave_values: &[Real], out: &mut [Real]) {
+        match self {
+            PairOperators::Small { d, m, slave_nodes } => {
+                for (i, o) in out.iter_mut().enumerate().take(*slave_nodes) {
+                    let mut mv = 0.0;
+                    for (j, v) in master_values.iter().enumerate() {
+                        mv += m[i][j] * v;
+                    }
+                    let mut ds = 0.0;
+                    for (j, v) in slave_values.iter().enumerate() {
+                        ds += d[i][j] * v;
+                    }
+                    *o = mv - ds;
+                }
+            }
+            PairOperators::General(o) => o.residual_into(master_values, slave_values, out),
+        }
+    }
 }
 
 /// Kratos' `NormalGapProcess` (§10.1 a–b, §10.2) on ContactSub `sub`, after the search filled
@@ -266,6 +404,33 @@ pub fn normal_gap_process(
     sub: PartIdx,
     settings: &MappingSettings,
 ) -> Result<MappingReport, Error> {
+    normal_gap_process_inner(model, sub, settings, None).map(|(report, _)| report)
+}
+
+/// [`normal_gap_process`] that also computes the weighted gap
+/// ([`crate::compute_weighted_gap`]) of every pair it keeps, from the same segmentation, for a
+/// step in which the coordinates do not move before the weighted gap: `unit_normals` (by node
+/// index) are the nodal `NORMAL` the weighted gap will read (the unit normals the caller
+/// writes back after the mapping). Face pairs only (3D); the weighted gap computes the others.
+pub fn normal_gap_process_keeping(
+    model: &mut ModelPart,
+    sub: PartIdx,
+    settings: &MappingSettings,
+    unit_normals: &[Vector],
+) -> Result<(MappingReport, KnownGaps), Error> {
+    let inputs = WeightedGapInputs {
+        unit_normals,
+        dim: settings.dim.clamp(1, 3),
+    };
+    normal_gap_process_inner(model, sub, settings, Some(inputs))
+}
+
+fn normal_gap_process_inner(
+    model: &mut ModelPart,
+    sub: PartIdx,
+    settings: &MappingSettings,
+    weighted_gap: Option<WeightedGapInputs<'_>>,
+) -> Result<(MappingReport, KnownGaps), Error> {
     let o = !settings.inverted;
     let dim = settings.dim.clamp(1, 3);
     let s = sides(model, sub, settings.inverted);
@@ -338,38 +503,52 @@ pub fn normal_gap_process(
     };
     let op_settings = OperatorSettings::mapper();
     let mut report = MappingReport::default();
-    let mut pairs = Vec::new();
     // Every slave condition's entries in parallel; kept and removed entries are collected in
-    // slave-condition order, as Kratos' loop visits them.
+    // slave-condition order, as Kratos' loop visits them. The kept pairs stay in the per-slave
+    // lists (no second copy of the operators).
     let m = &*model;
     let per_slave: Vec<Result<SlaveMapping, Error>> = s
         .slave_conditions
         .par_iter()
-        .map(|&sc| map_slave(m, sc, &seg_settings, &op_settings))
+        .map(|&sc| map_slave(m, sc, &seg_settings, &op_settings, weighted_gap))
         .collect();
-    for mapped in per_slave {
-        let mapped = mapped?;
-        report.removed.extend(mapped.removed);
-        pairs.extend(mapped.kept);
+    // The first error in slave order.
+    let mut per_slave = per_slave.into_iter().collect::<Result<Vec<_>, Error>>()?;
+    let n_gaps = per_slave.iter().map(|m| m.gaps.len()).sum();
+    let mut gaps = Vec::with_capacity(n_gaps);
+    for mapped in &per_slave {
+        report.removed.extend_from_slice(&mapped.removed);
     }
+    for mapped in &mut per_slave {
+        gaps.append(&mut mapped.gaps);
+    }
+    let known = KnownGaps::new(gaps);
+    // Only the slaves with kept pairs stay (most slave conditions have none on a large
+    // interface with a small contact zone).
+    let per_slave: Vec<Vec<MappedPair>> = per_slave
+        .into_iter()
+        .filter(|m| !m.kept.is_empty())
+        .map(|m| m.kept)
+        .collect();
+    let pairs = || per_slave.iter().flatten();
     for r in &report.removed {
         model.index_map_mut(r.slave).remove_id(r.master);
     }
-    report.kept = pairs.len();
+    report.kept = pairs().count();
     // 4. The explicit mapping iterations.
     let n_d = s.slave_nodes.len().max(1) as Real;
     let mut r0: [Real; 3] = [0.0; 3];
     let mut r_prev: [Real; 3] = [0.0; 3];
     let mut iteration = 0;
     // Kratos' per-component flags are sticky: a component converged once stays converged.
-    let mut component_converged = [pairs.is_empty(); 3];
-    let mut converged = pairs.is_empty();
+    let mut component_converged = [report.kept == 0; 3];
+    let mut converged = report.kept == 0;
     let mut vaux = vec![Vector::zeros(); n_nodes];
     while !converged && iteration < MAPPER_MAX_ITERATIONS {
         for n in s.master_nodes.iter().chain(&s.slave_nodes) {
             vaux[n.index()] = Vector::zeros();
         }
-        for p in &pairs {
+        for p in pairs() {
             let slave_nodes = model.conditions().nodes(p.slave.index());
             let master_nodes = model.conditions().nodes(p.master.index());
             let (nm, ns) = (master_nodes.len(), slave_nodes.len());
@@ -391,7 +570,7 @@ pub fn normal_gap_process(
             }
             if iteration == 0 {
                 for (i, n) in slave_nodes.iter().enumerate() {
-                    area[n.index()] += p.operators.d[(i, i)];
+                    area[n.index()] += p.operators.d_diagonal(i);
                 }
             }
         }
@@ -459,5 +638,5 @@ pub fn normal_gap_process(
     if let Some(col) = data.vector_mut(VectorVar::AuxiliarCoordinates, 0) {
         col.copy_from_slice(&aux);
     }
-    Ok(report)
+    Ok((report, known))
 }

@@ -202,9 +202,9 @@ fn weighted_gap_of_a_flat_pair_is_gap_times_area() {
             (ConditionIdx(0), ConditionIdx(1)),
             (ConditionIdx(0), ConditionIdx(2)),
         ],
-        MortarMode::Kratos,
-        1e24,
+        (MortarMode::Kratos, 1e24),
         3,
+        None,
     )
     .unwrap();
     // The far master (condition 3) overlaps nothing: ISOLATED.

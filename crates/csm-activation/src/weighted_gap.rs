@@ -1,7 +1,7 @@
 //! ComputeWeightedReaction: the explicit weighted gap of the paired conditions (§10.3).
 
-use csm_geometry::Geometry;
 use csm_geometry::math::Real;
+use csm_geometry::{Geometry, MortarFace, Segmentation};
 use csm_geometry::{
     MortarMode, OperatorSettings, SegmentationSettings, dual_basis, exact_segmentation,
     integration_points, mortar_operators,
@@ -10,7 +10,7 @@ use csm_model::{ConditionIdx, ModelPart, PartIdx, ScalarVar};
 use rayon::prelude::*;
 
 use crate::error::Error;
-use crate::mapping::{face_data, make_face};
+use crate::mapping::{FaceData, face_data, make_face};
 
 /// A pair contributes only if `overlap area / slave area > WEIGHTED_GAP_AREA_RATIO`.
 pub const WEIGHTED_GAP_AREA_RATIO: Real = 1e-5;
@@ -24,13 +24,16 @@ pub const WEIGHTED_GAP_AREA_RATIO: Real = 1e-5;
 /// Nothing happens, and nothing is returned, when the model has no `WEIGHTED_GAP`.
 ///
 /// Errors: a face the mortar routines refuse.
+///
+/// `known`: contributions the mapping already computed ([`crate::normal_gap_process_keeping`]
+/// in a step whose coordinates did not move); a pair found there is not computed again.
 pub fn compute_weighted_gap(
     model: &mut ModelPart,
     sub: PartIdx,
     pairs: &[(ConditionIdx, ConditionIdx)],
-    mode: MortarMode,
-    distance_threshold: Real,
+    (mode, distance_threshold): (MortarMode, Real),
     dim: usize,
+    known: Option<KnownGaps>,
 ) -> Result<Vec<bool>, Error> {
     if !model.nodal_data().has_scalar(ScalarVar::WeightedGap) {
         return Ok(Vec::new());
@@ -49,26 +52,24 @@ pub fn compute_weighted_gap(
         mode,
         distance_threshold,
     };
-    let op_settings = OperatorSettings::explicit();
     // Every pair's contribution in parallel, added below in pair order (Kratos' sums).
     let m = &*model;
+    let known = known.unwrap_or_default();
     let contributions: Vec<Result<Option<PairGap>, Error>> = pairs
         .par_iter()
-        .map(|&(sc, mc)| pair_weighted_gap(m, sc, mc, &seg_settings, &op_settings, dim))
+        .map(|&(sc, mc)| match known.get(sc, mc) {
+            Some(gap) => gap.clone(),
+            None => pair_weighted_gap(m, sc, mc, &seg_settings, dim),
+        })
         .collect();
     let mut isolated = Vec::with_capacity(pairs.len());
-    for contribution in contributions {
+    for (contribution, &(sc, _)) in contributions.into_iter().zip(pairs) {
         let contribution = contribution?;
         isolated.push(contribution.is_none());
         let Some(pair) = contribution else {
             continue;
         };
-        for (n, g) in model
-            .conditions()
-            .nodes(pair.slave.index())
-            .iter()
-            .zip(&pair.gaps)
-        {
+        for (n, g) in model.conditions().nodes(sc.index()).iter().zip(pair.gaps()) {
             wg[n.index()] += g;
         }
     }
@@ -78,10 +79,63 @@ pub fn compute_weighted_gap(
     Ok(isolated)
 }
 
+/// The most slave nodes of a pair the weighted gap supports (Line2D2, Triangle3D3,
+/// Quadrilateral3D4: the kinds of the exact segmentation).
+const GAP_NODES: usize = 4;
+
 /// One pair's weighted-gap contribution per slave node (in node order).
-struct PairGap {
-    slave: ConditionIdx,
-    gaps: Vec<Real>,
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PairGap {
+    len: usize,
+    gaps: [Real; GAP_NODES],
+}
+
+impl PairGap {
+    fn gaps(&self) -> &[Real] {
+        &self.gaps[..self.len]
+    }
+}
+
+/// One entry of [`KnownGaps`]: a (slave, master) pair and its contribution.
+pub(crate) type KnownGap = ((ConditionIdx, ConditionIdx), Result<Option<PairGap>, Error>);
+
+/// Weighted-gap contributions computed by the mapping, by (slave, master) condition: the
+/// contribution, `None` for a pair without enough overlap (ISOLATED), or the error its
+/// computation gave (reported when the weighted gap reaches the pair, in pair order).
+#[derive(Debug, Default)]
+pub struct KnownGaps {
+    /// Sorted by key.
+    entries: Vec<KnownGap>,
+}
+
+impl KnownGaps {
+    pub(crate) fn new(mut entries: Vec<KnownGap>) -> KnownGaps {
+        // Keys are unique: an unstable sort gives the same order, without a buffer.
+        entries.sort_unstable_by_key(|(key, _)| *key);
+        KnownGaps { entries }
+    }
+
+    /// The number of pairs.
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// Whether no pair is known.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    fn get(
+        &self,
+        slave: ConditionIdx,
+        master: ConditionIdx,
+    ) -> Option<&Result<Option<PairGap>, Error>> {
+        let k = self
+            .entries
+            .binary_search_by_key(&(slave, master), |(key, _)| *key)
+            .ok()?;
+        Some(&self.entries[k].1)
+    }
 }
 
 /// The contribution of the pair `(sc, mc)`, `None` when it has no overlap above
@@ -91,7 +145,6 @@ fn pair_weighted_gap(
     sc: ConditionIdx,
     mc: ConditionIdx,
     seg_settings: &SegmentationSettings,
-    op_settings: &OperatorSettings,
     dim: usize,
 ) -> Result<Option<PairGap>, Error> {
     let slave_id = model.conditions().ids()[sc.index()];
@@ -99,42 +152,81 @@ fn pair_weighted_gap(
     let mdata = face_data(model, mc);
     let slave = make_face(model, sc, &sdata)?;
     let master = make_face(model, mc, &mdata)?;
-    let wrap =
-        |what: &'static str| move |e: csm_geometry::Error| Error::condition(what, slave_id, &e);
-    let Some(seg) =
-        exact_segmentation(&slave, &master, seg_settings).map_err(wrap("mortar segmentation"))?
+    let Some(seg) = exact_segmentation(&slave, &master, seg_settings)
+        .map_err(|e| Error::condition("mortar segmentation", slave_id, &e))?
     else {
         return Ok(None);
     };
-    let slave_area = Geometry::new(model.conditions().kind(sc.index()), &sdata.points)
+    let slave_area = slave_area(model, sc, &sdata)?;
+    segmented_pair_gap(
+        model,
+        sc,
+        (&sdata, &slave, slave_area),
+        (&mdata, &master),
+        &seg,
+        dim,
+    )
+}
+
+/// The area of slave condition `sc` (points `sdata`), the reference of the overlap ratio.
+pub(crate) fn slave_area(
+    model: &ModelPart,
+    sc: ConditionIdx,
+    sdata: &FaceData,
+) -> Result<Real, Error> {
+    Geometry::new(model.conditions().kind(sc.index()), &sdata.points)
         .and_then(|g| g.area())
-        .map_err(wrap("area"))?;
+        .map_err(|e| Error::condition("area", model.conditions().ids()[sc.index()], &e))
+}
+
+/// The weighted-gap contribution of a pair from its segmentation `seg` (explicit operator
+/// settings; the faces carry the nodal normals the weighted gap uses; `slave_area` from
+/// [`slave_area`]), `None` when the overlap is not above [`WEIGHTED_GAP_AREA_RATIO`] of the
+/// slave's area.
+pub(crate) fn segmented_pair_gap(
+    model: &ModelPart,
+    sc: ConditionIdx,
+    (sdata, slave, slave_area): (&FaceData, &MortarFace<'_>, Real),
+    (mdata, master): (&FaceData, &MortarFace<'_>),
+    seg: &Segmentation,
+    dim: usize,
+) -> Result<Option<PairGap>, Error> {
+    let slave_id = model.conditions().ids()[sc.index()];
+    let wrap =
+        |what: &'static str| move |e: csm_geometry::Error| Error::condition(what, slave_id, &e);
     if seg.cells().is_empty() || seg.overlap_area() / slave_area <= WEIGHTED_GAP_AREA_RATIO {
         return Ok(None);
     }
-    let gps = integration_points(&slave, &master, &seg, op_settings)
+    let gps = integration_points(slave, master, seg, &OperatorSettings::explicit())
         .map_err(wrap("mortar integration"))?;
-    let basis = dual_basis(&slave, &gps);
-    let ops = mortar_operators(&slave, &master, &gps, Some(&basis));
+    let basis = dual_basis(slave, &gps);
+    let ops = mortar_operators(slave, master, &gps, Some(&basis));
     // Kratos: `D_x1_M_x2 = prod(D, x1) − prod(M, x2)`, then
     // `WEIGHTED_GAP_i += inner_prod(row_i, −n_i)` (sums in index order from 0).
-    let gaps = (0..sdata.points.len())
-        .map(|i| {
-            let normal = sdata.nodal_normals[i];
-            let mut g = 0.0;
-            for k in 0..dim {
-                let mut dx = 0.0;
-                for (j, p) in sdata.points.iter().enumerate() {
-                    dx += ops.d[(i, j)] * p[k];
-                }
-                let mut mx = 0.0;
-                for (j, p) in mdata.points.iter().enumerate() {
-                    mx += ops.m[(i, j)] * p[k];
-                }
-                g += (dx - mx) * -normal[k];
+    if sdata.points.len() > GAP_NODES {
+        return Err(Error::message_only(format!(
+            "weighted gap of condition {slave_id}: a slave of more than {GAP_NODES} nodes"
+        )));
+    }
+    let mut out = PairGap {
+        len: sdata.points.len(),
+        gaps: [0.0; GAP_NODES],
+    };
+    for (i, gap) in out.gaps[..out.len].iter_mut().enumerate() {
+        let normal = sdata.nodal_normals[i];
+        let mut g = 0.0;
+        for k in 0..dim {
+            let mut dx = 0.0;
+            for (j, p) in sdata.points.iter().enumerate() {
+                dx += ops.d[(i, j)] * p[k];
             }
-            g
-        })
-        .collect();
-    Ok(Some(PairGap { slave: sc, gaps }))
+            let mut mx = 0.0;
+            for (j, p) in mdata.points.iter().enumerate() {
+                mx += ops.m[(i, j)] * p[k];
+            }
+            g += (dx - mx) * -normal[k];
+        }
+        *gap = g;
+    }
+    Ok(Some(out))
 }

@@ -303,6 +303,11 @@ impl UnitNormalsSnapshot {
         Some(UnitNormalsSnapshot { part, nodal })
     }
 
+    /// The kept `NORMAL`, by node index (every node of the model).
+    pub fn nodal(&self) -> &[Vector] {
+        &self.nodal
+    }
+
     /// Writes the kept `NORMAL` of the nodes of the part's conditions back.
     pub fn restore(self, model: &mut ModelPart) {
         let mut written = vec![false; model.nodes().len()];

@@ -955,7 +955,22 @@ fn check_pairing(
     } else {
         None
     };
-    let report = act::normal_gap_process(model, sub, &settings).map_err(activation_error)?;
+    // The same condition: the weighted gap's segmentation of a pair is the mapping's, so the
+    // mapping computes the weighted gap of the pairs it keeps (with the kept unit normals).
+    let weighted_gap =
+        plan.weighted_gap.is_used() && model.nodal_data().has_scalar(ScalarVar::WeightedGap);
+    let (report, known_gaps) = match &unit_normals {
+        Some(kept) if weighted_gap => {
+            let (report, known) =
+                act::normal_gap_process_keeping(model, sub, &settings, kept.nodal())
+                    .map_err(activation_error)?;
+            (report, Some(known))
+        }
+        _ => (
+            act::normal_gap_process(model, sub, &settings).map_err(activation_error)?,
+            None,
+        ),
+    };
     crate::trace::mark("mapping");
     let ids = model.conditions().ids();
     pair.pruned = report
@@ -1006,9 +1021,15 @@ fn check_pairing(
     // ComputeWeightedReaction: only the Advanced activation reads WEIGHTED_GAP.
     if plan.weighted_gap.is_used() {
         let paired: Vec<_> = pair.paired.iter().map(|pc| (pc.slave, pc.master)).collect();
-        let isolated =
-            act::compute_weighted_gap(model, sub, &paired, mode, distance_threshold, dim)
-                .map_err(activation_error)?;
+        let isolated = act::compute_weighted_gap(
+            model,
+            sub,
+            &paired,
+            (mode, distance_threshold),
+            dim,
+            known_gaps,
+        )
+        .map_err(activation_error)?;
         for (pc, isolated) in pair.paired.iter_mut().zip(isolated) {
             pc.isolated = isolated;
         }

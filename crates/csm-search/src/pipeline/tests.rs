@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 
 use csm_geometry::math::Point;
 use csm_geometry::{Geometry, GeometryKind};
-use csm_model::{ConditionId, ElementId, ModelPart, NodeId, NodeIdx, PropertiesId};
+use csm_model::{ConditionId, ConditionIdx, ElementId, ModelPart, NodeId, NodeIdx, PropertiesId};
 
 use super::candidates::Bv;
 use super::*;
@@ -814,4 +814,48 @@ fn the_unit_normals_after_the_mapping_are_those_calculate_unit_normals_writes() 
     };
     assert_eq!(normal(&model), normal(&again), "nodal NORMAL");
     assert_eq!(model.condition_normals(), again.condition_normals());
+}
+
+#[test]
+fn the_weighted_gap_computed_by_the_mapping_is_the_weighted_gap_of_the_pairs() {
+    // Curved plates: the mapping's nodal normals (mean normals) differ from the weighted
+    // gap's (Kratos' unit normals). A static step computes the weighted gap of every kept
+    // pair in the mapping from the mapping's segmentation; here it is computed again on its
+    // own, pair by pair in the step's pair order (slave id, master id), and must agree bit
+    // for bit.
+    let s = setup(r#"{"type_search": "in_radius_with_obb"}"#, "");
+    let mut model = plates(8, -0.005, false);
+    for p in model.nodes_mut().coordinates_mut() {
+        p.z += 0.05 * (1.3 * p.x).sin() * (0.7 * p.y + 0.2).cos();
+    }
+    let mut search = ContactSearch::initialize(&mut model, &s).unwrap();
+    let result = search.step(&mut model).unwrap();
+    let index = |id: u32| ConditionIdx(model.conditions().index_of(id).unwrap() as u32);
+    let paired: Vec<(ConditionIdx, ConditionIdx)> = pairs(&result)
+        .iter()
+        .flat_map(|(s, masters)| masters.iter().map(|m| (index(*s), index(*m))))
+        .collect();
+    assert!(paired.len() > 10);
+    let sub = model.find_part("Contact.ContactSub0").unwrap();
+    let threshold = model.process_info().number("DISTANCE_THRESHOLD").unwrap();
+    let mut again = model.clone();
+    let isolated = csm_activation::compute_weighted_gap(
+        &mut again,
+        sub,
+        &paired,
+        (csm_activation::MortarMode::Kratos, threshold),
+        3,
+        None,
+    )
+    .unwrap();
+    assert!(isolated.iter().any(|i| !i));
+    let wg = |m: &ModelPart| {
+        m.nodal_data()
+            .scalar(csm_model::ScalarVar::WeightedGap, 0)
+            .unwrap()
+            .to_vec()
+    };
+    let (stepped, recomputed) = (wg(&model), wg(&again));
+    assert!(stepped.iter().any(|g| *g != 0.0));
+    assert_eq!(stepped, recomputed);
 }
