@@ -13,8 +13,8 @@
 //! A condition of zero area or a node whose summed normal vanishes (opposite faces cancel) is
 //! an error here; Kratos produces NaN or raises for INTERFACE nodes.
 
+use csm_geometry::Geometry;
 use csm_geometry::math::{EPS, Point, Vector};
-use csm_geometry::{FaceUnitNormals, Geometry, GeometryKind};
 use rayon::prelude::*;
 
 use crate::error::{EntityKind, Error, ErrorKind};
@@ -69,6 +69,8 @@ pub struct FaceNormalsRef<'a> {
     /// The unit normal at the local coordinates of the centre.
     pub centre: Vector,
     nodes: &'a [Vector],
+    /// The position of `nodes` in the table's nodal normals.
+    nodes_start: usize,
 }
 
 impl FaceNormalsRef<'_> {
@@ -97,6 +99,7 @@ impl FaceNormals {
                 condition: self.conditions[i],
                 centre: self.centres[i],
                 nodes: &self.nodes[start..self.ends[i] as usize],
+                nodes_start: start,
             }
         })
     }
@@ -104,30 +107,82 @@ impl FaceNormals {
     /// Per node of `model`, the sum of the nodal normals of its faces, added in the table's
     /// face order (Kratos' order), and the number of its faces (0: a node of no face).
     ///
-    /// The nodes are split into one block of consecutive indices per thread, summed in
-    /// parallel: each block scans every face in order and adds only to its own nodes, so every
-    /// node's sum is the serial one, bit for bit, for any thread count.
+    /// Cache-friendly and parallel, with the serial sums bit for bit: the (node, normal)
+    /// contributions are first sorted by blocks of consecutive node indices, keeping the face
+    /// order within each block (sequential writes); each block then adds its contributions in
+    /// that order into its own small slice of the sums (in parallel). Every node receives its
+    /// faces' normals in face order, as a serial loop adds them.
     pub fn nodal_sums(&self, model: &ModelPart) -> (Vec<Vector>, Vec<u32>) {
+        if self.centres.len() >= NODAL_ENTRY as usize || self.nodes.len() >= NODAL_ENTRY as usize {
+            return self.nodal_sums_serial(model);
+        }
         let n_nodes = model.nodes().len();
         let mut sums = vec![Vector::zeros(); n_nodes];
         let mut count = vec![0u32; n_nodes];
-        let block = n_nodes.div_ceil(rayon::current_num_threads()).max(1);
         let conditions = model.conditions();
-        sums.par_chunks_mut(block)
-            .zip(count.par_chunks_mut(block))
+        let block_of = |node: usize| node >> NODE_BLOCK_BITS;
+        let n_blocks = block_of(n_nodes) + 1;
+        // Contributions per block: a counting pass, then the contributions placed in face
+        // order. A contribution is (node, normal): the face's centre normal (uniform faces)
+        // or an entry of the nodal table, told apart by the top bit.
+        let mut start = vec![0usize; n_blocks + 1];
+        for face in self.iter() {
+            for node in conditions.nodes(face.condition.index()) {
+                start[block_of(node.index()) + 1] += 1;
+            }
+        }
+        for b in 0..n_blocks {
+            start[b + 1] += start[b];
+        }
+        let mut next = start.clone();
+        let mut contributions = vec![(0u32, 0u32); start[n_blocks]];
+        for (i, face) in self.iter().enumerate() {
+            let uniform = face.nodes.is_empty();
+            for (k, node) in conditions.nodes(face.condition.index()).iter().enumerate() {
+                let normal = if uniform {
+                    i as u32
+                } else {
+                    (face.nodes_start + k) as u32 | NODAL_ENTRY
+                };
+                let slot = &mut next[block_of(node.index())];
+                contributions[*slot] = (node.get(), normal);
+                *slot += 1;
+            }
+        }
+        let normal = |r: u32| {
+            if r & NODAL_ENTRY == 0 {
+                self.centres[r as usize]
+            } else {
+                self.nodes[(r & !NODAL_ENTRY) as usize]
+            }
+        };
+        sums.par_chunks_mut(1 << NODE_BLOCK_BITS)
+            .zip(count.par_chunks_mut(1 << NODE_BLOCK_BITS))
             .enumerate()
             .for_each(|(b, (sums, count))| {
-                let first = b * block;
-                let range = first..first + sums.len();
-                for face in self.iter() {
-                    for (k, node) in conditions.nodes(face.condition.index()).iter().enumerate() {
-                        if range.contains(&node.index()) {
-                            sums[node.index() - first] += face.node(k);
-                            count[node.index() - first] += 1;
-                        }
-                    }
+                let first = b << NODE_BLOCK_BITS;
+                for &(node, r) in &contributions[start[b]..start[b + 1]] {
+                    let i = node as usize - first;
+                    sums[i] += normal(r);
+                    count[i] += 1;
                 }
             });
+        (sums, count)
+    }
+
+    /// [`FaceNormals::nodal_sums`] as one serial loop over the faces (the reference the
+    /// blocked sums reproduce; used for tables too large for their references).
+    pub fn nodal_sums_serial(&self, model: &ModelPart) -> (Vec<Vector>, Vec<u32>) {
+        let n_nodes = model.nodes().len();
+        let mut sums = vec![Vector::zeros(); n_nodes];
+        let mut count = vec![0u32; n_nodes];
+        for face in self.iter() {
+            let nodes = model.conditions().nodes(face.condition.index());
+            for (k, node) in nodes.iter().enumerate() {
+                sums[node.index()] += face.node(k);
+                count[node.index()] += 1;
+            }
+        }
         (sums, count)
     }
 
@@ -139,24 +194,15 @@ impl FaceNormals {
             condition_normals[face.condition.index()] = face.centre;
         }
     }
-
-    fn push(&mut self, c: ConditionIdx, normals: &FaceUnitNormals) {
-        self.conditions.push(c);
-        self.centres.push(normals.centre);
-        if !normals.is_uniform() {
-            self.nodes.extend_from_slice(normals.nodes());
-        }
-        self.ends.push(self.nodes.len() as u32);
-    }
-
-    fn append(&mut self, other: FaceNormals) {
-        let base = self.nodes.len() as u32;
-        self.conditions.extend(other.conditions);
-        self.centres.extend(other.centres);
-        self.ends.extend(other.ends.into_iter().map(|e| e + base));
-        self.nodes.extend(other.nodes);
-    }
 }
+
+/// log2 of the nodes per block of [`FaceNormals::nodal_sums`] (a block's sums and counts,
+/// ~230 KB, stay in a core's cache).
+const NODE_BLOCK_BITS: u32 = 13;
+
+/// The top bit of a contribution's normal reference in [`FaceNormals::nodal_sums`]: set for
+/// an entry of the nodal table, clear for a face's centre normal.
+const NODAL_ENTRY: u32 = 1 << 31;
 
 /// Faces per parallel task of [`face_unit_normals`].
 const FACES_PER_TASK: usize = 4096;
@@ -169,30 +215,52 @@ pub fn face_unit_normals(
     model: &ModelPart,
     conditions: &[ConditionIdx],
 ) -> Result<FaceNormals, Error> {
-    let chunks: Vec<Result<FaceNormals, Error>> = conditions
+    let kinds = model.conditions();
+    let faces: Vec<ConditionIdx> = conditions
+        .iter()
+        .copied()
+        .filter(|c| kinds.kind(c.index()).is_face())
+        .collect();
+    // Centres and per-face counts of nodal normals written in place; the nodal normals of
+    // the (few) non-affine faces per task, joined afterwards.
+    let mut centres = vec![Vector::zeros(); faces.len()];
+    let mut ends = vec![0u32; faces.len()];
+    let chunks: Vec<Result<Vec<Vector>, Error>> = faces
         .par_chunks(FACES_PER_TASK)
-        .map(|chunk| {
-            let mut table = FaceNormals::default();
+        .zip(centres.par_chunks_mut(FACES_PER_TASK))
+        .zip(ends.par_chunks_mut(FACES_PER_TASK))
+        .map(|((faces, centres), counts)| {
+            let mut nodes = Vec::new();
             let mut points = Vec::<Point>::new();
-            for &c in chunk {
-                let kind: GeometryKind = model.conditions().kind(c.index());
-                if !kind.is_face() {
-                    continue;
-                }
+            for ((&c, centre), count) in faces.iter().zip(centres).zip(counts) {
                 model.gather_points(model.conditions().nodes(c.index()), &mut points);
-                let normals = Geometry::new(kind, &points)
+                let normals = Geometry::new(kinds.kind(c.index()), &points)
                     .and_then(|g| g.face_unit_normals())
                     .map_err(|e| geometry_error(c, model, e))?;
-                table.push(c, &normals);
+                *centre = normals.centre;
+                if !normals.is_uniform() {
+                    nodes.extend_from_slice(normals.nodes());
+                    *count = normals.nodes().len() as u32;
+                }
             }
-            Ok(table)
+            Ok(nodes)
         })
         .collect();
-    let mut table = FaceNormals::default();
+    let mut nodes = Vec::new();
     for chunk in chunks {
-        table.append(chunk?);
+        nodes.extend(chunk?);
     }
-    Ok(table)
+    let mut end = 0u32;
+    for e in &mut ends {
+        end += *e;
+        *e = end;
+    }
+    Ok(FaceNormals {
+        conditions: faces,
+        centres,
+        ends,
+        nodes,
+    })
 }
 
 /// Computes the unit normals of the conditions of `part` (all conditions when `None`) and

@@ -130,9 +130,9 @@ fn only_the_given_part_is_computed() {
 
 #[test]
 fn nodal_sums_are_the_serial_sums_for_any_thread_count() {
-    // A bumpy 12×12 grid of triangles and quadrilaterals; node ids scrambled so that a face's
-    // nodes fall into different blocks.
-    let n = 13;
+    // A bumpy 100×100 grid of triangles and quadrilaterals (more nodes than one block of
+    // the blocked sums); node ids scrambled so that a face's nodes fall into different blocks.
+    let n = 101;
     let id = |i: usize, j: usize| ((i * n + j) * 37 % (n * n)) as u32 + 1;
     let mut pts = vec![[0.0; 3]; n * n];
     for i in 0..n {
@@ -169,6 +169,7 @@ fn nodal_sums_are_the_serial_sums_for_any_thread_count() {
             serial.1[node.index()] += 1;
         }
     }
+    assert_eq!(table.nodal_sums_serial(&mp), serial);
     for threads in [1, 2, 3, 7] {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
