@@ -2,7 +2,7 @@
 //! `DomainSize()`, reference §14 and §17.1).
 
 use super::Geometry;
-use super::quadrature::gauss_rule;
+use super::quadrature::for_each_gauss_point;
 use super::unit_normal::DEGENERATE_REL;
 use crate::math::{Point, Real, Vector, cross_kratos, norm_kratos};
 use crate::{Error, ErrorKind, GeometryKind};
@@ -26,9 +26,9 @@ impl Geometry<'_> {
     /// of the kind; the absolute value of the sum for solids.
     fn integrate_measure(&self) -> Real {
         let mut sum = 0.0;
-        for (xi, w) in gauss_rule(self.kind()) {
+        for_each_gauss_point(self.kind(), |xi, w| {
             sum += w * self.jacobian_measure(&Point::new(xi[0], xi[1], xi[2]));
-        }
+        });
         sum.abs()
     }
 

@@ -1,4 +1,4 @@
-//! Gauss rules used by the measures (area, volume): `(local point, weight)` lists.
+//! Gauss rules used by the measures (area, volume): `(local point, weight)` visited in order.
 
 use crate::GeometryKind;
 use crate::math::Real;
@@ -12,10 +12,11 @@ fn gauss_1d(order: usize) -> &'static [(Real, Real)] {
     if order <= 2 { &TWO } else { &THREE }
 }
 
-/// A Gauss rule for `kind`'s reference element: 2 points per direction for linear kinds,
+/// Calls `f(point, weight)` for every point of a Gauss rule for `kind`'s reference element
+/// (no allocation): 2 points per direction for linear kinds,
 /// 3 for quadratic ones; triangles the 3-point rule (degree 2), tetrahedra the 4-point rule
 /// (degree 2), prisms triangle (3) × Gauss (2) on ζ ∈ [0, 1].
-pub(crate) fn gauss_rule(kind: GeometryKind) -> Vec<([Real; 3], Real)> {
+pub(crate) fn for_each_gauss_point(kind: GeometryKind, mut f: impl FnMut([Real; 3], Real)) {
     use GeometryKind as K;
     let quadratic = matches!(
         kind,
@@ -34,9 +35,15 @@ pub(crate) fn gauss_rule(kind: GeometryKind) -> Vec<([Real; 3], Real)> {
         ([1.0 / 6.0, 2.0 / 3.0], 1.0 / 6.0),
     ];
     match kind {
-        K::Line2D2 | K::Line2D3 => g.iter().map(|&(x, w)| ([x, 0.0, 0.0], w)).collect(),
+        K::Line2D2 | K::Line2D3 => {
+            for &(x, w) in g {
+                f([x, 0.0, 0.0], w);
+            }
+        }
         K::Triangle3D3 | K::Triangle3D6 | K::Triangle2D3 | K::Triangle2D6 => {
-            TRI.iter().map(|&(p, w)| ([p[0], p[1], 0.0], w)).collect()
+            for &(p, w) in &TRI {
+                f([p[0], p[1], 0.0], w);
+            }
         }
         K::Quadrilateral3D4
         | K::Quadrilateral3D8
@@ -44,44 +51,35 @@ pub(crate) fn gauss_rule(kind: GeometryKind) -> Vec<([Real; 3], Real)> {
         | K::Quadrilateral2D4
         | K::Quadrilateral2D8
         | K::Quadrilateral2D9 => {
-            let mut r = Vec::new();
             for &(y, wy) in g {
                 for &(x, wx) in g {
-                    r.push(([x, y, 0.0], wx * wy));
+                    f([x, y, 0.0], wx * wy);
                 }
             }
-            r
         }
         K::Hexahedra3D8 | K::Hexahedra3D20 | K::Hexahedra3D27 => {
-            let mut r = Vec::new();
             for &(z, wz) in g {
                 for &(y, wy) in g {
                     for &(x, wx) in g {
-                        r.push(([x, y, z], wx * wy * wz));
+                        f([x, y, z], wx * wy * wz);
                     }
                 }
             }
-            r
         }
         K::Tetrahedra3D4 | K::Tetrahedra3D10 => {
             let a = 0.585_410_196_624_968_5;
             let b = 0.138_196_601_125_010_5;
             let w = 1.0 / 24.0;
-            vec![
-                ([b, b, b], w),
-                ([a, b, b], w),
-                ([b, a, b], w),
-                ([b, b, a], w),
-            ]
+            for p in [[b, b, b], [a, b, b], [b, a, b], [b, b, a]] {
+                f(p, w);
+            }
         }
         K::Prism3D6 => {
-            let mut r = Vec::new();
             for &(z, wz) in gauss_1d(2) {
                 for &(p, w) in &TRI {
-                    r.push(([p[0], p[1], 0.5 + 0.5 * z], w * 0.5 * wz));
+                    f([p[0], p[1], 0.5 + 0.5 * z], w * 0.5 * wz);
                 }
             }
-            r
         }
     }
 }
