@@ -193,7 +193,12 @@ pub(crate) fn mean_normals(
     Ok(())
 }
 
-/// The entries of one slave condition's INDEX_MAP after the segmentation.
+/// Slave conditions per parallel task of the segmentation.
+const SLAVES_PER_TASK: usize = 64;
+/// Conditions per parallel task of the reference area.
+const CONDITIONS_PER_TASK: usize = 4096;
+
+/// The entries of consecutive slave conditions' INDEX_MAPs after the segmentation.
 #[derive(Default)]
 struct SlaveMapping {
     kept: Vec<MappedPair>,
@@ -212,18 +217,18 @@ struct WeightedGapInputs<'a> {
 }
 
 /// Segments every INDEX_MAP entry of slave condition `sc`: entries without overlap are
-/// removed; the others get the dual basis and the mapper's `D`, `M` operators.
+/// removed; the others get the dual basis and the mapper's `D`, `M` operators (appended to
+/// `out`).
 fn map_slave(
     model: &ModelPart,
     sc: ConditionIdx,
-    seg_settings: &SegmentationSettings,
-    op_settings: &OperatorSettings,
+    (seg_settings, op_settings): (&SegmentationSettings, &OperatorSettings),
     weighted_gap: Option<WeightedGapInputs<'_>>,
-) -> Result<SlaveMapping, Error> {
-    let mut out = SlaveMapping::default();
+    out: &mut SlaveMapping,
+) -> Result<(), Error> {
     let entries: Vec<(ConditionId, Option<ConditionId>)> = model.index_map(sc).iter().collect();
     if entries.is_empty() {
-        return Ok(out);
+        return Ok(());
     }
     let sdata = face_data(model, sc);
     let slave = make_face(model, sc, &sdata)?;
@@ -271,7 +276,7 @@ fn map_slave(
             out.gaps.push(((sc, mc), gap));
         }
     }
-    Ok(out)
+    Ok(())
 }
 
 /// The weighted-gap contribution of the kept pair `(sc, mc)` whose segmentation is `seg`:
@@ -483,14 +488,22 @@ fn normal_gap_process_inner(
         .copied()
         .collect();
     let m = &*model;
+    // The largest area per task (areas are finite: `max` in any grouping is the serial
+    // maximum), and the first error in condition order.
     let areas: Vec<Result<Real, Error>> = all
-        .par_iter()
-        .map_init(Vec::new, |points, &c| {
-            let id = m.conditions().ids()[c.index()];
-            m.gather_points(m.conditions().nodes(c.index()), points);
-            Geometry::new(m.conditions().kind(c.index()), points)
-                .and_then(|g| g.area())
-                .map_err(|e| Error::condition("area", id, &e))
+        .par_chunks(CONDITIONS_PER_TASK)
+        .map(|chunk| {
+            let mut points = Vec::new();
+            let mut largest: Real = 0.0;
+            for &c in chunk {
+                let id = m.conditions().ids()[c.index()];
+                m.gather_points(m.conditions().nodes(c.index()), &mut points);
+                let a = Geometry::new(m.conditions().kind(c.index()), &points)
+                    .and_then(|g| g.area())
+                    .map_err(|e| Error::condition("area", id, &e))?;
+                largest = largest.max(a);
+            }
+            Ok(largest)
         })
         .collect();
     for a in areas {
@@ -509,8 +522,15 @@ fn normal_gap_process_inner(
     let m = &*model;
     let per_slave: Vec<Result<SlaveMapping, Error>> = s
         .slave_conditions
-        .par_iter()
-        .map(|&sc| map_slave(m, sc, &seg_settings, &op_settings, weighted_gap))
+        .par_chunks(SLAVES_PER_TASK)
+        .map(|chunk| {
+            let mut out = SlaveMapping::default();
+            for &sc in chunk {
+                map_slave(m, sc, (&seg_settings, &op_settings), weighted_gap, &mut out)?;
+            }
+            out.kept.shrink_to_fit();
+            Ok(out)
+        })
         .collect();
     // The first error in slave order.
     let mut per_slave = per_slave.into_iter().collect::<Result<Vec<_>, Error>>()?;
