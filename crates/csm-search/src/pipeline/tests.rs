@@ -790,11 +790,9 @@ fn morton_order_is_a_deterministic_z_curve_permutation() {
     }
 }
 
-#[test]
-fn the_unit_normals_after_the_mapping_are_those_calculate_unit_normals_writes() {
-    // Curved plates, so that the mapping's mean normals (normalised once) and Kratos' unit
-    // normals (normalised once per adjacent face) differ: a static step keeps the unit
-    // normals of its start instead of computing them again after the mapping.
+/// One static step of the default search on plates bent into a bump: curved faces, so the
+/// mapping's mean normals and Kratos' unit normals differ.
+fn curved_plates_step() -> (ModelPart, SearchResult) {
     let s = setup(r#"{"type_search": "in_radius_with_obb"}"#, "");
     let mut model = plates(8, -0.005, false);
     for p in model.nodes_mut().coordinates_mut() {
@@ -802,6 +800,15 @@ fn the_unit_normals_after_the_mapping_are_those_calculate_unit_normals_writes() 
     }
     let mut search = ContactSearch::initialize(&mut model, &s).unwrap();
     let result = search.step(&mut model).unwrap();
+    (model, result)
+}
+
+#[test]
+fn the_unit_normals_after_the_mapping_are_those_calculate_unit_normals_writes() {
+    // Curved plates, so that the mapping's mean normals (normalised once) and Kratos' unit
+    // normals (normalised once per adjacent face) differ: a static step keeps the unit
+    // normals of its start instead of computing them again after the mapping.
+    let (model, result) = curved_plates_step();
     assert!(result.n_pairs() > 0);
     let sub = model.find_part("Contact.ContactSub0").unwrap();
     let mut again = model.clone();
@@ -823,13 +830,7 @@ fn the_weighted_gap_computed_by_the_mapping_is_the_weighted_gap_of_the_pairs() {
     // pair in the mapping from the mapping's segmentation; here it is computed again on its
     // own, pair by pair in the step's pair order (slave id, master id), and must agree bit
     // for bit.
-    let s = setup(r#"{"type_search": "in_radius_with_obb"}"#, "");
-    let mut model = plates(8, -0.005, false);
-    for p in model.nodes_mut().coordinates_mut() {
-        p.z += 0.05 * (1.3 * p.x).sin() * (0.7 * p.y + 0.2).cos();
-    }
-    let mut search = ContactSearch::initialize(&mut model, &s).unwrap();
-    let result = search.step(&mut model).unwrap();
+    let (model, result) = curved_plates_step();
     let index = |id: u32| ConditionIdx(model.conditions().index_of(id).unwrap() as u32);
     let paired: Vec<(ConditionIdx, ConditionIdx)> = pairs(&result)
         .iter()

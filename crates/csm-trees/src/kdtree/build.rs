@@ -139,23 +139,12 @@ fn build_range<T: Send>(
 /// links, and returns the subtree's root index in `nodes`.
 fn append(nodes: &mut Vec<Node>, sub: Vec<Node>) -> u32 {
     let offset = nodes.len() as u32;
-    nodes.extend(sub.into_iter().map(|node| match node {
-        Node::Inner {
-            axis,
-            cut,
-            left_max,
-            right_min,
-            left,
-            right,
-        } => Node::Inner {
-            axis,
-            cut,
-            left_max,
-            right_min,
-            left: left + offset,
-            right: right + offset,
-        },
-        leaf @ Node::Leaf { .. } => leaf,
+    nodes.extend(sub.into_iter().map(|mut node| {
+        if let Node::Inner { left, right, .. } = &mut node {
+            *left += offset;
+            *right += offset;
+        }
+        node
     }));
     offset
 }
