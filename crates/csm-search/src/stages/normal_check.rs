@@ -9,11 +9,12 @@
 //!    `p = face.Center() + length_proportion · face.Length() · face.UnitNormal(ξ(centre))`; if
 //!    `element.IsInside(p, check_threshold)` the element and the face's nodes get MARKER;
 //! 4. every condition gets MARKER = all its nodes MARKER; marked elements and conditions are
-//!    inverted; normals recomputed; MARKER reset on nodes, elements and conditions;
+//!    inverted; normals recomputed (only when a condition was inverted: they depend on the
+//!    conditions alone); MARKER reset on nodes, elements and conditions;
 //! 5. pass 2, per solid element: every INTERFACE node gets MARKER when
 //!    `X + length_proportion · element.Length() · NORMAL(node)` is inside the element; conditions
 //!    with all nodes MARKER are inverted; MARKER reset on nodes and conditions; normals
-//!    recomputed;
+//!    recomputed (again only after an inversion);
 //! 6. the remembered entities get MARKER := **false**, whatever they had (Q28).
 //!
 //! The inside tests of linear solids first try [`Geometry::separated_along`] (the probe beyond
@@ -137,7 +138,11 @@ pub fn normal_check(
         }
     }
     invert_marked_conditions(model, kratos);
-    compute_normals(model)?;
+    // The unit normals depend on the conditions only (coordinates and node order): without an
+    // inverted condition they are the ones just computed.
+    if !report.inverted_conditions.is_empty() {
+        compute_normals(model)?;
+    }
     reset_marker(model, true, true, true);
 
     // Pass 2: nodal normals.
@@ -171,7 +176,9 @@ pub fn normal_check(
     report.inverted_conditions_by_nodes = mark_conditions(model);
     invert_marked_conditions(model, kratos);
     reset_marker(model, true, false, true);
-    compute_normals(model)?;
+    if !report.inverted_conditions_by_nodes.is_empty() {
+        compute_normals(model)?;
+    }
 
     backup.restore(model, kratos);
     Ok(report)
