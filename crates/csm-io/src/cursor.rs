@@ -72,6 +72,27 @@ impl<'a> Cursor<'a> {
         self.pos
     }
 
+    /// The whole file.
+    pub(crate) fn data(&self) -> &'a [u8] {
+        self.data
+    }
+
+    /// Moves to byte `pos` (a word boundary: the caller has read everything before it).
+    pub(crate) fn set_pos(&mut self, pos: usize) {
+        self.pos = pos;
+    }
+
+    /// A cursor over the same file at byte `pos`.
+    pub(crate) fn at(&self, pos: usize) -> Cursor<'a> {
+        Cursor {
+            data: self.data,
+            pos,
+            file: self.file,
+            comments: self.comments,
+            binary_section: self.binary_section,
+        }
+    }
+
     pub(crate) fn remaining(&self) -> usize {
         self.data.len().saturating_sub(self.pos)
     }

@@ -15,7 +15,7 @@
 //! missing feature for the others.
 //!
 //! **Architecture Invariant:** `csm-io` depends only on `csm-model` and `csm-geometry`
-//! (and `nom`). It knows nothing of the search: it fills a model part and writes one.
+//! (and `nom`; `rayon` for the parallel parsing of `.mdpa` blocks). It knows nothing of the search: it fills a model part and writes one.
 #![deny(missing_docs)]
 
 #[cfg(any(feature = "msh", feature = "mdpa"))]

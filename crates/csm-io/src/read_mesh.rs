@@ -40,7 +40,7 @@ fn read_bytes(ext: &str, bytes: &[u8], file: &str) -> Result<ModelPart, Error> {
     if ext == "msh" {
         crate::read_msh(bytes, file)
     } else {
-        crate::read_mdpa(&String::from_utf8_lossy(bytes), file)
+        crate::mdpa::read_mdpa_bytes(bytes, file)
     }
 }
 
@@ -51,7 +51,7 @@ fn read_bytes(_ext: &str, bytes: &[u8], file: &str) -> Result<ModelPart, Error> 
 
 #[cfg(all(feature = "mdpa", not(feature = "msh")))]
 fn read_bytes(_ext: &str, bytes: &[u8], file: &str) -> Result<ModelPart, Error> {
-    crate::read_mdpa(&String::from_utf8_lossy(bytes), file)
+    crate::mdpa::read_mdpa_bytes(bytes, file)
 }
 
 #[cfg(not(any(feature = "msh", feature = "mdpa")))]

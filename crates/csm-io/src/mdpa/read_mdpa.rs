@@ -20,11 +20,50 @@ use csm_model::{
 use crate::cursor::{Cursor, Token, parse_f64, quote};
 use crate::error::{Error, ErrorKind};
 use crate::mdpa::geometry_from_name::geometry_from_name;
+use crate::mdpa::number_block::{self, Parsed, Record};
 
 /// Reads a Kratos `.mdpa` text into a model part named `Structure`. `file_name` is used in
 /// error messages only.
+///
+/// The `Nodes`, `Elements`, `Conditions` and sub-model-part id blocks are parsed in parallel
+/// (rayon's pool) when they hold plain numbers only; the model and every error are those of
+/// the word-by-word reading.
 pub fn read_mdpa(text: &str, file_name: &str) -> Result<ModelPart, Error> {
-    let mut cur = Cursor::new(text.as_bytes(), file_name, true);
+    read_mdpa_bytes(text.as_bytes(), file_name)
+}
+
+/// [`read_mdpa`] of the file's bytes: words that are not UTF-8 are errors where they are
+/// read (comments may hold anything).
+pub(crate) fn read_mdpa_bytes(bytes: &[u8], file_name: &str) -> Result<ModelPart, Error> {
+    read_mdpa_with(bytes, file_name, Some(Parallel::default()))
+}
+
+/// The sizes of the parallel block parsing.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Parallel {
+    /// The smallest chunk one worker parses (bytes).
+    pub(crate) min_chunk: usize,
+    /// The bytes of a window (see [`number_block::WINDOW_BYTES`]).
+    pub(crate) window: usize,
+}
+
+impl Default for Parallel {
+    fn default() -> Parallel {
+        Parallel {
+            min_chunk: 64 << 10,
+            window: number_block::WINDOW_BYTES,
+        }
+    }
+}
+
+/// [`read_mdpa`]; `parallel`: the sizes of the parallel block parsing, or `None` for the
+/// word-by-word reading only (the oracle of the tests).
+pub(crate) fn read_mdpa_with(
+    bytes: &[u8],
+    file_name: &str,
+    parallel: Option<Parallel>,
+) -> Result<ModelPart, Error> {
+    let mut cur = Cursor::new(bytes, file_name, true);
     if cur.at_end()? {
         return Err(cur.error_at(0, ErrorKind::Empty));
     }
@@ -32,6 +71,7 @@ pub fn read_mdpa(text: &str, file_name: &str) -> Result<ModelPart, Error> {
         cur,
         mp: ModelPart::new("Structure"),
         ids: Vec::new(),
+        parallel,
     };
     let mut domain_size_given = false;
     while let Some(t) = r.cur.token()? {
@@ -84,6 +124,8 @@ struct Reader<'a> {
     cur: Cursor<'a>,
     mp: ModelPart,
     ids: Vec<NodeIdx>,
+    /// The sizes of the parallel block parsing; `None`: word by word only.
+    parallel: Option<Parallel>,
 }
 
 /// A value of a properties or process info line: a number, `[n] (a, b, …)` or text.
@@ -220,7 +262,53 @@ impl<'a> Reader<'a> {
             .error_at(b.pos, ErrorKind::Unterminated(format!("`Begin {name}`"))))
     }
 
+    /// The end of the plain body of the block the cursor is in (see
+    /// [`number_block::plain_body_end`]), when the parallel parsing is on.
+    fn plain_body_end(&self) -> Option<usize> {
+        self.parallel?;
+        number_block::plain_body_end(self.cur.data(), self.cur.pos())
+    }
+
+    /// The next window of the plain body ending at `end` (from
+    /// [`plain_body_end`](Self::plain_body_end)), parsed in parallel as `record`s, and its
+    /// start; `None` when the cursor has to go on (no plain body, its end reached, or a window
+    /// it must read word by word).
+    fn parallel_window(&mut self, record: Record, end: Option<usize>) -> Option<(Parsed, usize)> {
+        let (sizes, end) = (self.parallel?, end?);
+        let data = self.cur.data();
+        let at = self.cur.pos();
+        if at >= end {
+            return None;
+        }
+        let to = number_block::window_end(data, at, end, sizes.window);
+        let parsed = number_block::parse_window(data, (at, to), record, sizes.min_chunk)?;
+        self.cur.set_pos(to);
+        Some((parsed, at))
+    }
+
+    /// The byte offset of word `k` (from 0) after `start`.
+    fn word_pos(&self, start: usize, k: usize) -> usize {
+        let mut c = self.cur.at(start);
+        for _ in 0..k {
+            if let Ok(None) | Err(_) = c.token() {
+                break;
+            }
+        }
+        match c.token() {
+            Ok(Some(t)) => t.pos,
+            _ => c.pos(),
+        }
+    }
+
     fn nodes(&mut self) -> Result<(), Error> {
+        let end = self.plain_body_end();
+        while let Some((parsed, start)) = self.parallel_window(Record::Node, end) {
+            for (k, (id, x)) in parsed.ids.iter().zip(&parsed.coordinates).enumerate() {
+                if let Err(e) = self.mp.add_node(NodeId(*id), (*x).into()) {
+                    return Err(self.model_err(self.word_pos(start, 4 * k), e));
+                }
+            }
+        }
         loop {
             let t = self.next("Nodes")?;
             let (text, pos) = (t.text, t.pos);
@@ -251,6 +339,22 @@ impl<'a> Reader<'a> {
                 .error_at(name_tok.pos, ErrorKind::UnknownGeometryName(name.clone()))
         })?;
         let mut conn: Vec<NodeId> = Vec::with_capacity(kind.n_nodes());
+        let width = kind.n_nodes() + 2;
+        let end = self.plain_body_end();
+        while let Some((parsed, start)) = self.parallel_window(Record::Ids(width), end) {
+            for (k, record) in parsed.ids.chunks_exact(width).enumerate() {
+                conn.clear();
+                conn.extend(record[2..].iter().map(|&n| NodeId(n)));
+                if let Err(e) = self.add_entity(
+                    is_element,
+                    (record[0], kind, &name),
+                    &conn,
+                    PropertiesId(record[1]),
+                ) {
+                    return Err(self.model_err(self.word_pos(start, width * k), e));
+                }
+            }
+        }
         loop {
             let t = self.next(block)?;
             let (text, pos) = (t.text, t.pos);
@@ -268,17 +372,28 @@ impl<'a> Reader<'a> {
             for _ in 0..kind.n_nodes() {
                 conn.push(NodeId(self.cur.id("a node id")?));
             }
-            self.mp.ensure_properties(prop);
-            let r = if is_element {
-                self.mp
-                    .add_element(ElementId(id), kind, &name, &conn, prop)
-                    .map(|_| ())
-            } else {
-                self.mp
-                    .add_condition(ConditionId(id), kind, &name, &conn, prop)
-                    .map(|_| ())
-            };
-            r.map_err(|e| self.model_err(pos, e))?;
+            self.add_entity(is_element, (id, kind, &name), &conn, prop)
+                .map_err(|e| self.model_err(pos, e))?;
+        }
+    }
+
+    /// Adds element (`is_element`) or condition `id` of `kind` named `name`.
+    fn add_entity(
+        &mut self,
+        is_element: bool,
+        (id, kind, name): (u32, csm_geometry::GeometryKind, &str),
+        conn: &[NodeId],
+        prop: PropertiesId,
+    ) -> Result<(), csm_model::Error> {
+        self.mp.ensure_properties(prop);
+        if is_element {
+            self.mp
+                .add_element(ElementId(id), kind, name, conn, prop)
+                .map(|_| ())
+        } else {
+            self.mp
+                .add_condition(ConditionId(id), kind, name, conn, prop)
+                .map(|_| ())
         }
     }
 
@@ -382,14 +497,20 @@ impl<'a> Reader<'a> {
         }
     }
 
-    /// Ids up to `End <block>`, as raw values with their positions.
-    fn id_list(&mut self, block: &str) -> Result<Vec<(u32, usize)>, Error> {
+    /// Ids up to `End <block>`, and the offset their words start from (the position of id
+    /// `k` is [`word_pos`](Self::word_pos)`(start, k)`).
+    fn id_list(&mut self, block: &str) -> Result<(Vec<u32>, usize), Error> {
+        let start = self.cur.pos();
         let mut out = Vec::new();
+        let end = self.plain_body_end();
+        while let Some((mut parsed, _)) = self.parallel_window(Record::Ids(1), end) {
+            out.append(&mut parsed.ids);
+        }
         loop {
             let t = self.next(block)?;
             let (text, pos) = (t.text, t.pos);
             if self.at_end_of(&Token { text, pos }, block)? {
-                return Ok(out);
+                return Ok((out, start));
             }
             let id = crate::cursor::parse_u64(text)
                 .and_then(|v| u32::try_from(v).ok())
@@ -397,7 +518,7 @@ impl<'a> Reader<'a> {
                     self.cur
                         .expected_at(pos, &format!("an id or `End {block}`"), &quote(text))
                 })?;
-            out.push((id, pos));
+            out.push(id);
         }
     }
 
@@ -429,10 +550,12 @@ impl<'a> Reader<'a> {
             let (btext, bpos) = (b.text, b.pos);
             match btext {
                 "SubModelPartNodes" => {
-                    let ids = self.id_list(btext)?;
+                    let (ids, start) = self.id_list(btext)?;
                     self.ids.clear();
-                    for (id, pos) in ids {
-                        let idx = self.node_idx(id, pos)?;
+                    for (k, id) in ids.into_iter().enumerate() {
+                        let idx = self.mp.nodes().index_of(id).ok_or_else(|| {
+                            self.missing(csm_model::EntityKind::Node, id, self.word_pos(start, k))
+                        })?;
                         self.ids.push(idx);
                     }
                     self.ids.sort_unstable();
@@ -442,11 +565,15 @@ impl<'a> Reader<'a> {
                 }
                 "SubModelPartElements" => {
                     let mut v = Vec::new();
-                    for (id, pos) in self.id_list(btext)? {
-                        let i =
-                            self.mp.elements().index_of(id).ok_or_else(|| {
-                                self.missing(csm_model::EntityKind::Element, id, pos)
-                            })?;
+                    let (ids, start) = self.id_list(btext)?;
+                    for (k, id) in ids.into_iter().enumerate() {
+                        let i = self.mp.elements().index_of(id).ok_or_else(|| {
+                            self.missing(
+                                csm_model::EntityKind::Element,
+                                id,
+                                self.word_pos(start, k),
+                            )
+                        })?;
                         v.push(csm_model::ElementIdx(i as u32));
                     }
                     v.sort_unstable();
@@ -454,9 +581,14 @@ impl<'a> Reader<'a> {
                 }
                 "SubModelPartConditions" => {
                     let mut v = Vec::new();
-                    for (id, pos) in self.id_list(btext)? {
+                    let (ids, start) = self.id_list(btext)?;
+                    for (k, id) in ids.into_iter().enumerate() {
                         let i = self.mp.conditions().index_of(id).ok_or_else(|| {
-                            self.missing(csm_model::EntityKind::Condition, id, pos)
+                            self.missing(
+                                csm_model::EntityKind::Condition,
+                                id,
+                                self.word_pos(start, k),
+                            )
                         })?;
                         v.push(csm_model::ConditionIdx(i as u32));
                     }

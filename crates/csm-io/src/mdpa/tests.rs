@@ -100,3 +100,180 @@ fn errors() {
         "expected the end of `Begin Table`",
     );
 }
+
+/// The parallel block parsing against the word-by-word reading (the oracle).
+mod parallel_blocks {
+    use super::super::{Parallel, read_mdpa_with};
+    use csm_model::ModelPart;
+    use proptest::prelude::*;
+
+    /// What a model holds, for comparison.
+    fn summary(mp: &ModelPart) -> String {
+        let mut s = format!(
+            "nodes {:?} {:?}\n",
+            mp.nodes().ids(),
+            mp.nodes().coordinates()
+        );
+        for (name, e) in [("elements", mp.elements()), ("conditions", mp.conditions())] {
+            s += &format!("{name} {:?} {:?}\n", e.ids(), e.kinds());
+            for i in 0..e.len() {
+                s += &format!("{} {:?} {:?}\n", e.name(i), e.nodes(i), e.properties(i));
+            }
+        }
+        for path in mp.part_paths() {
+            let p = mp.part(mp.get_part(path).unwrap());
+            s += &format!(
+                "part {path} {:?} {:?} {:?}\n",
+                p.nodes(),
+                p.elements(),
+                p.conditions()
+            );
+        }
+        s += &format!(
+            "properties {:?}\n",
+            mp.properties().keys().collect::<Vec<_>>()
+        );
+        s
+    }
+
+    fn outcome(r: Result<ModelPart, crate::Error>) -> String {
+        match r {
+            Ok(mp) => summary(&mp),
+            Err(e) => format!("error: {e}"),
+        }
+    }
+
+    /// Numbers written in the forms files use.
+    fn number() -> impl Strategy<Value = String> {
+        prop_oneof![
+            (-5i32..5).prop_map(|v| v.to_string()),
+            (-1e3f64..1e3).prop_map(|v| v.to_string()),
+            (-1e3f64..1e3).prop_map(|v| format!("{v:e}")),
+            (-1e3f64..1e3).prop_map(|v| format!("{v:+.3E}")),
+            Just("1.".to_owned()),
+            Just(".5".to_owned()),
+        ]
+    }
+
+    /// A separator between words: mostly spaces, sometimes a line end (a record split over
+    /// lines).
+    fn gap() -> impl Strategy<Value = &'static str> {
+        prop_oneof![8 => Just(" "), 2 => Just("\t "), 1 => Just("\n"), 1 => Just("\r\n  ")]
+    }
+
+    /// A generated file: nodes, tetrahedra, triangle conditions and a sub model part with
+    /// ids that may repeat or be missing.
+    fn mdpa() -> impl Strategy<Value = String> {
+        let nodes = prop::collection::vec(
+            (1u32..40, number(), number(), number(), gap(), gap()),
+            1..40,
+        );
+        let elements = prop::collection::vec(
+            (1u32..30, 0u32..3, prop::array::uniform4(1u32..42), gap()),
+            0..25,
+        );
+        let conditions =
+            prop::collection::vec((1u32..30, prop::array::uniform3(1u32..42), gap()), 0..25);
+        let part = prop::collection::vec((1u32..42, gap()), 0..30);
+        (nodes, elements, conditions, part, any::<bool>()).prop_map(
+            |(nodes, elements, conditions, part, crlf)| {
+                let nl = if crlf { "\r\n" } else { "\n" };
+                let mut t = format!("Begin Properties 0{nl}End Properties{nl}Begin Nodes{nl}");
+                for (id, x, y, z, a, b) in nodes {
+                    t += &format!("{id} {x}{a}{y} {z}{b}{nl}");
+                }
+                t += &format!("End Nodes{nl}Begin Elements Element3D4N{nl}");
+                for (id, p, n, g) in elements {
+                    t += &format!("{id} {p} {} {}{g}{} {}{nl}", n[0], n[1], n[2], n[3]);
+                }
+                t += &format!("End Elements{nl}Begin Conditions SurfaceCondition3D3N{nl}");
+                for (id, n, g) in conditions {
+                    t += &format!("  {id}\t0 {}{g}{} {}{nl}", n[0], n[1], n[2]);
+                }
+                t += &format!(
+                    "End Conditions{nl}Begin SubModelPart P{nl}Begin SubModelPartNodes{nl}"
+                );
+                for (id, g) in part {
+                    t += &format!("{id}{g}");
+                }
+                t += &format!("{nl}End SubModelPartNodes{nl}End SubModelPart{nl}");
+                t
+            },
+        )
+    }
+
+    /// A word replaced by something else (a bad number, a comment, a name, another id).
+    fn mutate(text: &str, at: f64, with: &str) -> String {
+        let words: Vec<(usize, &str)> = text
+            .split_ascii_whitespace()
+            .map(|w| (w.as_ptr() as usize - text.as_ptr() as usize, w))
+            .collect();
+        let (pos, w) = words[((words.len() as f64 * at) as usize).min(words.len() - 1)];
+        format!("{}{with}{}", &text[..pos], &text[pos + w.len()..])
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+
+        #[test]
+        fn the_parallel_reading_is_the_word_by_word_reading(
+            text in mdpa(),
+            mutation in prop::option::of((0.0f64..1.0, prop_oneof![
+                Just("x"), Just("1e999"), Just("-1"), Just("4294967296"), Just("2.5"),
+                Just("// c\n"), Just("/* c */"), Just("7"), Just("End"), Just("\u{b}"),
+            ])),
+            min_chunk in 1usize..64,
+            window in 1usize..200,
+        ) {
+            let text = match mutation {
+                Some((at, with)) => mutate(&text, at, with),
+                None => text,
+            };
+            let oracle = outcome(read_mdpa_with(text.as_bytes(), "m.mdpa", None));
+            let parallel = outcome(read_mdpa_with(
+                text.as_bytes(),
+                "m.mdpa",
+                Some(Parallel { min_chunk, window }),
+            ));
+            prop_assert_eq!(parallel, oracle);
+        }
+    }
+
+    #[test]
+    fn big_blocks_are_read_in_parallel_windows() {
+        // Ten thousand nodes and elements over many windows and chunks; the counts and a
+        // sample against the word-by-word reading.
+        let mut t = String::from("Begin Nodes\n");
+        for i in 1..=10_000 {
+            t += &format!(
+                "{i} {} {} {}\n",
+                i as f64 * 0.5,
+                -(i as f64),
+                1e-3 * i as f64
+            );
+        }
+        t += "End Nodes\nBegin Elements Element3D4N\n";
+        for i in 1..=9_997 {
+            t += &format!("{i} 0 {i} {} {} {}\n", i + 1, i + 2, i + 3);
+        }
+        t += "End Elements\n";
+        let sizes = Parallel {
+            min_chunk: 1000,
+            window: 20_000,
+        };
+        let parallel = read_mdpa_with(t.as_bytes(), "m.mdpa", Some(sizes)).unwrap();
+        let oracle = read_mdpa_with(t.as_bytes(), "m.mdpa", None).unwrap();
+        assert_eq!(parallel.nodes().len(), 10_000);
+        assert_eq!(parallel.elements().len(), 9_997);
+        assert_eq!(parallel.nodes().coordinates()[4_999].x, 2_500.0);
+        assert_eq!(summary(&parallel), summary(&oracle));
+        // A duplicate id deep in a later window is reported on its own line.
+        let dup = t.replacen("\n7000 ", "\n6999 ", 1);
+        let e = read_mdpa_with(dup.as_bytes(), "m.mdpa", Some(sizes)).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("m.mdpa:7001: duplicate node id 6999"),
+            "{e}"
+        );
+    }
+}

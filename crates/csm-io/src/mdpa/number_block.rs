@@ -1,0 +1,226 @@
+//! Blocks of plain numbers (`Nodes`, `Elements`, `Conditions`, the id lists of sub model
+//! parts) parsed in parallel.
+//!
+//! The word-by-word cursor handles every form a file may take (comments anywhere, records
+//! split over lines, odd whitespace); most files have none of that inside their big blocks.
+//! When the body of such a block holds nothing but number characters, spaces, tabs and line
+//! ends up to its `End`, it is cut at line ends into windows of a few MiB, each window into one
+//! chunk per worker, and the chunks are tokenised and parsed in parallel with the cursor's own
+//! number parsers ([`parse_u64`], [`parse_f64`]); the records are then used in file order, so
+//! the model is the one the cursor would build. A chunk whose words do not make whole records
+//! of the expected kinds makes the caller go on with the cursor from the start of its window
+//! (nothing of that window has been used yet), so every error — a bad word, a record split
+//! over a chunk boundary, a missing `End` — is the cursor's own.
+
+use rayon::prelude::*;
+
+use crate::cursor::{parse_f64, parse_u64};
+
+/// The bytes a window of a block holds (cut at a line end); its chunks are parsed in parallel.
+/// Bounds the parsed records held at once.
+pub(crate) const WINDOW_BYTES: usize = 4 << 20;
+
+/// The whitespace of a plain body (the cursor's `multispace1`).
+fn is_plain_space(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\r' | b'\n')
+}
+
+/// The end of the plain body of a block that starts at `start`: the offset of the word `End`
+/// that closes it, if every byte before it is a number character (`0-9 + - . e E`) or plain
+/// whitespace. `None` otherwise (a comment, a name, another whitespace byte, no `End`).
+pub(crate) fn plain_body_end(data: &[u8], start: usize) -> Option<usize> {
+    let mut i = start;
+    while i < data.len() {
+        let b = data[i];
+        match b {
+            b'0'..=b'9' | b'+' | b'-' | b'.' | b'e' => {}
+            _ if is_plain_space(b) => {}
+            b'E' => {
+                let word_start = i == start || is_plain_space(data[i - 1]);
+                if word_start {
+                    let end = i + 3;
+                    let ends_word = end == data.len()
+                        || data.get(end).is_some_and(|&c| c.is_ascii_whitespace());
+                    return (data[i..].starts_with(b"End") && ends_word).then_some(i);
+                }
+            }
+            _ => return None,
+        }
+        i += 1;
+    }
+    None
+}
+
+/// The end of the window that starts at `at` in a body ending at `end`: just past the first
+/// line end at or after `at + bytes`, or `end`.
+pub(crate) fn window_end(data: &[u8], at: usize, end: usize, bytes: usize) -> usize {
+    let target = at.saturating_add(bytes);
+    if target >= end {
+        return end;
+    }
+    data[target..end]
+        .iter()
+        .position(|&b| b == b'\n')
+        .map_or(end, |k| target + k + 1)
+}
+
+/// What the words of a record are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Record {
+    /// A node: an id and three finite coordinates.
+    Node,
+    /// `n` ids (32 bits each).
+    Ids(usize),
+}
+
+/// The parsed records of a window, in file order.
+#[derive(Debug, Default, PartialEq)]
+pub(crate) struct Parsed {
+    /// The ids: one per node, or `n` per record of [`Record::Ids`].
+    pub(crate) ids: Vec<u32>,
+    /// The coordinates of the nodes (empty for [`Record::Ids`]).
+    pub(crate) coordinates: Vec<[f64; 3]>,
+}
+
+impl Parsed {
+    fn append(&mut self, mut other: Parsed) {
+        self.ids.append(&mut other.ids);
+        self.coordinates.append(&mut other.coordinates);
+    }
+}
+
+/// Parses the window `data[at..end]` (whole lines of a plain body) in parallel, one chunk per
+/// worker (at least `min_chunk` bytes each); `None` when a chunk does not hold whole records
+/// of the kind `record`.
+pub(crate) fn parse_window(
+    data: &[u8],
+    (at, end): (usize, usize),
+    record: Record,
+    min_chunk: usize,
+) -> Option<Parsed> {
+    let workers = rayon::current_num_threads().max(1);
+    let chunk = ((end - at) / workers).max(min_chunk.max(1));
+    let mut bounds = Vec::with_capacity(workers + 1);
+    let mut from = at;
+    while from < end {
+        let to = window_end(data, from, end, chunk);
+        bounds.push((from, to));
+        from = to;
+    }
+    let parts: Vec<Option<Parsed>> = bounds
+        .into_par_iter()
+        .map(|(from, to)| parse_chunk(&data[from..to], record))
+        .collect();
+    let mut out = Parsed::default();
+    for p in parts {
+        out.append(p?);
+    }
+    Some(out)
+}
+
+/// The words of `chunk` as records of kind `record`, or `None`.
+fn parse_chunk(chunk: &[u8], record: Record) -> Option<Parsed> {
+    let mut out = Parsed::default();
+    let mut words = chunk
+        .split(|&b| is_plain_space(b))
+        .filter(|w| !w.is_empty())
+        .map(|w| std::str::from_utf8(w).ok());
+    let id = |w: Option<&str>| w.and_then(parse_u64).and_then(|v| u32::try_from(v).ok());
+    let coordinate =
+        |w: Option<Option<&str>>| w.flatten().and_then(parse_f64).filter(|x| x.is_finite());
+    match record {
+        Record::Node => {
+            while let Some(w) = words.next() {
+                out.ids.push(id(w)?);
+                let x = coordinate(words.next())?;
+                let y = coordinate(words.next())?;
+                let z = coordinate(words.next())?;
+                out.coordinates.push([x, y, z]);
+            }
+        }
+        Record::Ids(n) => {
+            let mut count = 0usize;
+            for w in words {
+                out.ids.push(id(w)?);
+                count += 1;
+            }
+            if n == 0 || !count.is_multiple_of(n) {
+                return None;
+            }
+        }
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_plain_body_ends_at_its_end_word() {
+        let text = b"Begin Nodes\n 1 1.5e-3 -2E+1 3\nEnd Nodes\n";
+        let start = "Begin Nodes".len();
+        let end = plain_body_end(text, start).unwrap();
+        assert_eq!(&text[end..end + 9], b"End Nodes");
+        // An exponent `E` inside a number is not the end.
+        assert_eq!(plain_body_end(b" 1 2E5 3 4\nEnd", 0), Some(11));
+        // Comments, names, form feeds, a missing `End` or an `Ending` word: not plain.
+        for text in [
+            &b" 1 0 0 0 // c\nEnd Nodes"[..],
+            b" 1 0 0 0 /* c */\nEnd Nodes",
+            b" 1 0 0 nan\nEnd Nodes",
+            b" 1 0 0\x0c0\nEnd Nodes",
+            b" 1 0 0 0\n",
+            b" 1 0 0 0\nEnding",
+        ] {
+            assert_eq!(
+                plain_body_end(text, 0),
+                None,
+                "{:?}",
+                String::from_utf8_lossy(text)
+            );
+        }
+    }
+
+    #[test]
+    fn windows_end_after_a_line_end() {
+        let text = b"1 2\n3 4\n5 6\nEnd";
+        assert_eq!(window_end(text, 0, 12, 1), 4);
+        assert_eq!(window_end(text, 4, 12, 4), 12);
+        assert_eq!(window_end(text, 0, 12, 100), 12);
+    }
+
+    #[test]
+    fn chunks_parse_to_the_records_of_the_window() {
+        let text = b"1 0 0 0\n2 1.5 -2 3e2\n3 4 5 6\n";
+        for min_chunk in [1, 5, 1000] {
+            let p = parse_window(text, (0, text.len()), Record::Node, min_chunk).unwrap();
+            assert_eq!(p.ids, [1, 2, 3]);
+            assert_eq!(p.coordinates[1], [1.5, -2.0, 300.0]);
+        }
+        let ids = b"7 1 1 2 3\n8 1 2 3 4\n";
+        let p = parse_window(ids, (0, ids.len()), Record::Ids(5), 1).unwrap();
+        assert_eq!(p.ids, [7, 1, 1, 2, 3, 8, 1, 2, 3, 4]);
+        assert!(p.coordinates.is_empty());
+    }
+
+    #[test]
+    fn a_chunk_without_whole_valid_records_gives_up() {
+        // A record split over two lines, which become two chunks.
+        let split = b"1 0 0\n0\n";
+        assert!(parse_window(split, (0, split.len()), Record::Node, 1).is_none());
+        assert!(parse_window(split, (0, split.len()), Record::Node, 100).is_some());
+        let ids = b"7 1 1\n2 3\n";
+        assert!(parse_window(ids, (0, ids.len()), Record::Ids(5), 1).is_none());
+        // Words that are not what the record needs.
+        for bad in [
+            &b"1 0 0 1e999\n"[..],
+            b"1.5 0 0 0\n",
+            b"4294967296 0 0 0\n",
+            b"1 0 0\n",
+        ] {
+            assert!(parse_window(bad, (0, bad.len()), Record::Node, 1).is_none());
+        }
+        assert!(parse_window(b"1 -2\n", (0, 5), Record::Ids(1), 1).is_none());
+    }
+}
