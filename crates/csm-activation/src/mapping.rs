@@ -1,11 +1,12 @@
 //! NormalGapProcess and the explicit dual-mortar mapper (reference §10.1 a–b, §10.2).
 
 use csm_geometry::math::{EPS, Point, Real, Vector, norm_kratos};
-use csm_geometry::{Geometry, MAX_FACE_NODES};
 use csm_geometry::{
-    MortarFace, MortarMode, MortarOperators, OperatorSettings, Segmentation, SegmentationSettings,
-    dual_basis, exact_segmentation, integration_points, mortar_operators,
+    DualBasis, MortarFace, MortarIntegrationPoint, MortarMode, MortarOperators, OperatorSettings,
+    Segmentation, SegmentationSettings, dual_basis, exact_segmentation, integration_points,
+    mortar_operators,
 };
+use csm_geometry::{Geometry, MAX_FACE_NODES};
 use csm_model::{
     ConditionId, ConditionIdx, Flag, ModelPart, NodeIdx, PartIdx, ScalarVar, VectorVar,
 };
@@ -262,7 +263,7 @@ fn map_slave(
         out.kept.push(MappedPair {
             slave: sc,
             master: mc,
-            operators: PairOperators::new(operators),
+            operators,
         });
         // The weighted gap's segmentation of a face pair would be this one: it depends on
         // the coordinates and the slave's condition normal only (not on the nodal normals,
@@ -272,19 +273,26 @@ fn map_slave(
         {
             let (slave_u, area) = slave_for_gap
                 .get_or_insert_with(|| slave_gap_data(model, sc, &sdata, inputs.unit_normals));
-            let gap = kept_pair_gap(model, (sc, mc), &seg, (slave_u, area), inputs);
+            let gap = kept_pair_gap(
+                model,
+                (sc, mc),
+                (&seg, &gps, &basis),
+                (slave_u, area),
+                inputs,
+            );
             out.gaps.push(((sc, mc), gap));
         }
     }
     Ok(())
 }
 
-/// The weighted-gap contribution of the kept pair `(sc, mc)` whose segmentation is `seg`:
-/// the faces with the weighted gap's nodal normals.
+/// The weighted-gap contribution of the kept 3D pair `(sc, mc)` whose segmentation is `seg`
+/// and whose mapper Gauss points and dual basis are `gps`, `basis`: the faces with the
+/// weighted gap's nodal normals.
 fn kept_pair_gap(
     model: &ModelPart,
     (sc, mc): (ConditionIdx, ConditionIdx),
-    seg: &Segmentation,
+    (seg, gps, basis): (&Segmentation, &[MortarIntegrationPoint], &DualBasis),
     (sdata, slave_area): (&FaceData, &Result<Real, Error>),
     inputs: WeightedGapInputs<'_>,
 ) -> Result<Option<PairGap>, Error> {
@@ -298,7 +306,7 @@ fn kept_pair_gap(
         sc,
         (sdata, &slave, slave_area),
         (&mdata, &master),
-        seg,
+        (seg, Some((gps, basis))),
         inputs.dim,
     )
 }
@@ -324,70 +332,7 @@ fn slave_gap_data(
 struct MappedPair {
     slave: ConditionIdx,
     master: ConditionIdx,
-    operators: PairOperators,
-}
-
-/// A pair's `D` and `M`, in fixed-size arrays for faces of up to four nodes (every kind the
-/// segmentation supports; no heap block per pair), else as computed.
-enum PairOperators {
-    Small {
-        d: [[Real; 4]; 4],
-        m: [[Real; 4]; 4],
-        slave_nodes: usize,
-    },
-    General(MortarOperators),
-}
-
-impl PairOperators {
-    fn new(operators: MortarOperators) -> PairOperators {
-        let (ns, nm) = (operators.d.nrows(), operators.m.ncols());
-        if ns > 4 || nm > 4 || operators.d.ncols() != ns || operators.m.nrows() != ns {
-            return PairOperators::General(operators);
-        }
-        let mut d = [[0.0; 4]; 4];
-        let mut m = [[0.0; 4]; 4];
-        for (i, (d_row, m_row)) in d.iter_mut().zip(&mut m).enumerate().take(ns) {
-            for (j, v) in d_row.iter_mut().enumerate().take(ns) {
-                *v = operators.d[(i, j)];
-            }
-            for (j, v) in m_row.iter_mut().enumerate().take(nm) {
-                *v = operators.m[(i, j)];
-            }
-        }
-        PairOperators::Small {
-            d,
-            m,
-            slave_nodes: ns,
-        }
-    }
-
-    /// `D(i, i)`.
-    fn d_diagonal(&self, i: usize) -> Real {
-        match self {
-            PairOperators::Small { d, .. } => d[i][i],
-            PairOperators::General(o) => o.d[(i, i)],
-        }
-    }
-
-    /// [`MortarOperators::residual_into`], with the same arithmetic.
-    fn residual_into(&self, master_values: &[Real], slave_values: &[Real], out: &mut [Real]) {
-        match self {
-            PairOperators::Small { d, m, slave_nodes } => {
-                for (i, o) in out.iter_mut().enumerate().take(*slave_nodes) {
-                    let mut mv = 0.0;
-                    for (j, v) in master_values.iter().enumerate() {
-                        mv += m[i][j] * v;
-                    }
-                    let mut ds = 0.0;
-                    for (j, v) in slave_values.iter().enumerate() {
-                        ds += d[i][j] * v;
-                    }
-                    *o = mv - ds;
-                }
-            }
-            PairOperators::General(o) => o.residual_into(master_values, slave_values, out),
-        }
-    }
+    operators: MortarOperators,
 }
 
 /// Kratos' `NormalGapProcess` (§10.1 a–b, §10.2) on ContactSub `sub`, after the search filled
@@ -590,7 +535,7 @@ fn normal_gap_process_inner(
             }
             if iteration == 0 {
                 for (i, n) in slave_nodes.iter().enumerate() {
-                    area[n.index()] += p.operators.d_diagonal(i);
+                    area[n.index()] += p.operators.d[(i, i)];
                 }
             }
         }

@@ -1,11 +1,12 @@
 //! ComputeWeightedReaction: the explicit weighted gap of the paired conditions (§10.3).
 
 use csm_geometry::math::Real;
-use csm_geometry::{Geometry, MortarFace, Segmentation};
 use csm_geometry::{
-    MortarMode, OperatorSettings, SegmentationSettings, dual_basis, exact_segmentation,
-    integration_points, mortar_operators,
+    DualBasis, MortarIntegrationPoint, MortarMode, OperatorSettings, SegmentationSettings,
+    dual_basis, exact_segmentation, integration_points, integration_points_with_normals,
+    mortar_operators,
 };
+use csm_geometry::{Geometry, MortarFace, Segmentation};
 use csm_model::{ConditionIdx, ModelPart, PartIdx, ScalarVar};
 use rayon::prelude::*;
 
@@ -163,7 +164,7 @@ fn pair_weighted_gap(
         sc,
         (&sdata, &slave, slave_area),
         (&mdata, &master),
-        &seg,
+        (&seg, None),
         dim,
     )
 }
@@ -183,12 +184,21 @@ pub(crate) fn slave_area(
 /// settings; the faces carry the nodal normals the weighted gap uses; `slave_area` from
 /// [`slave_area`]), `None` when the overlap is not above [`WEIGHTED_GAP_AREA_RATIO`] of the
 /// slave's area.
+///
+/// `first_pass`: the Gauss points and dual basis of the mapper on the same faces and
+/// segmentation, in 3D (the same cells: the degenerate-cell test of triangles does not depend
+/// on the operator settings). The points are then only moved to the new nodal normals
+/// ([`integration_points_with_normals`]) and the basis is kept (it depends on the slave side
+/// only): bit for bit the values computed afresh.
 pub(crate) fn segmented_pair_gap(
     model: &ModelPart,
     sc: ConditionIdx,
     (sdata, slave, slave_area): (&FaceData, &MortarFace<'_>, Real),
     (mdata, master): (&FaceData, &MortarFace<'_>),
-    seg: &Segmentation,
+    (seg, first_pass): (
+        &Segmentation,
+        Option<(&[MortarIntegrationPoint], &DualBasis)>,
+    ),
     dim: usize,
 ) -> Result<Option<PairGap>, Error> {
     let slave_id = model.conditions().ids()[sc.index()];
@@ -197,9 +207,19 @@ pub(crate) fn segmented_pair_gap(
     if seg.cells().is_empty() || seg.overlap_area() / slave_area <= WEIGHTED_GAP_AREA_RATIO {
         return Ok(None);
     }
-    let gps = integration_points(slave, master, seg, &OperatorSettings::explicit())
-        .map_err(wrap("mortar integration"))?;
-    let basis = dual_basis(slave, &gps);
+    let (gps, basis) = match first_pass {
+        Some((points, basis)) => (
+            integration_points_with_normals(slave, master, points)
+                .map_err(wrap("mortar integration"))?,
+            *basis,
+        ),
+        None => {
+            let gps = integration_points(slave, master, seg, &OperatorSettings::explicit())
+                .map_err(wrap("mortar integration"))?;
+            let basis = dual_basis(slave, &gps);
+            (gps, basis)
+        }
+    };
     let ops = mortar_operators(slave, master, &gps, Some(&basis));
     // Kratos: `D_x1_M_x2 = prod(D, x1) − prod(M, x2)`, then
     // `WEIGHTED_GAP_i += inner_prod(row_i, −n_i)` (sums in index order from 0).

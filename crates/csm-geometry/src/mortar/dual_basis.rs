@@ -14,28 +14,29 @@
 //! gave the standard basis to the first kind and NODAL_AREA differences up to 1.7e-4.)
 
 use super::face::MortarFace;
+use super::face_matrix::{FaceMatrix, MAX_FACE_NODES, face_shape_values};
 use super::integration_points::MortarIntegrationPoint;
 use crate::math::{EPS, Real};
-use nalgebra::DMatrix;
 
 /// The matrix `Ae` of the dual basis `Φ = Ae · N_s`, for one slave–master pair.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DualBasis {
-    ae: DMatrix<Real>,
+    ae: FaceMatrix,
     is_dual: bool,
 }
 
 impl DualBasis {
-    /// The standard basis (`Ae = I`, `Φ = N_s`) for `n_nodes` slave nodes.
+    /// The standard basis (`Ae = I`, `Φ = N_s`) for `n_nodes` slave nodes (at most
+    /// [`MAX_FACE_NODES`]; more are clamped).
     pub fn identity(n_nodes: usize) -> DualBasis {
         DualBasis {
-            ae: DMatrix::identity(n_nodes, n_nodes),
+            ae: FaceMatrix::identity(n_nodes.min(MAX_FACE_NODES)),
             is_dual: false,
         }
     }
 
     /// `Ae` (slave nodes × slave nodes).
-    pub fn ae(&self) -> &DMatrix<Real> {
+    pub fn ae(&self) -> &FaceMatrix {
         &self.ae
     }
 
@@ -46,17 +47,18 @@ impl DualBasis {
     }
 
     /// `Φ = Ae · N` for shape-function values `n` (one per slave node), each component summed
-    /// in index order from 0 (ublas `prod`).
-    pub fn phi(&self, n: &[Real]) -> Vec<Real> {
-        (0..self.ae.nrows())
-            .map(|i| {
-                let mut t = 0.0;
-                for (j, nj) in n.iter().enumerate() {
-                    t += self.ae[(i, j)] * nj;
-                }
-                t
-            })
-            .collect()
+    /// in index order from 0 (ublas `prod`); entries beyond the slave nodes are 0.
+    pub fn phi(&self, n: &[Real]) -> [Real; MAX_FACE_NODES] {
+        let mut out = [0.0; MAX_FACE_NODES];
+        for (i, o) in out.iter_mut().enumerate().take(self.ae.nrows()) {
+            let row = self.ae.row(i);
+            let mut t = 0.0;
+            for (a, nj) in row.iter().zip(n) {
+                t += a * nj;
+            }
+            *o = t;
+        }
+        out
     }
 }
 
@@ -69,10 +71,10 @@ impl DualBasis {
 pub fn dual_basis(slave: &MortarFace<'_>, points: &[MortarIntegrationPoint]) -> DualBasis {
     let sg = slave.geometry();
     let n = sg.kind().n_nodes();
-    let mut de = DMatrix::<Real>::zeros(n, n);
-    let mut me = DMatrix::<Real>::zeros(n, n);
+    let mut de = FaceMatrix::zeros(n, n);
+    let mut me = FaceMatrix::zeros(n, n);
     for gp in points {
-        let ns = sg.shape_functions(&gp.slave_local);
+        let ns = face_shape_values(sg.kind(), &gp.slave_local);
         let w_det = gp.gauss_weight * gp.det_j;
         for i in 0..n {
             de[(i, i)] += gp.gauss_weight * (gp.det_j * ns[i]);
@@ -93,14 +95,17 @@ pub const MAX_ME_CONDITION_NUMBER: Real = 1.0e-4 / EPS;
 
 /// `Ae = (1/f) · De · (Me/f)⁻¹` with `f = ‖Me‖_F` (so that `∫ Φ_i N_j = δ_ij ∫ N_j` over the
 /// pair's cells), in Kratos' arithmetic, or `None` — the standard basis — when `f < ε`, when
-/// the size has no closed-form inverse, or when the condition number exceeds
+/// the sizes differ or have no closed-form inverse, or when the condition number exceeds
 /// [`MAX_ME_CONDITION_NUMBER`] (whatever the determinant; see the module docs). An exactly
 /// singular `Me/f` (determinant 0.0, so a 0/0 inverse) has a NaN condition number, which is not
 /// "too high" for Kratos: it keeps the NaN inverse and the NaN reaches NORMAL_GAP. csm does
 /// not: a non-finite inverse also gives the standard basis, in both modes (a NaN is never a
 /// result; docs/conformance.md). No fixture pair has an exactly singular `Me`.
-pub fn dual_ae(de: &DMatrix<Real>, me: &DMatrix<Real>) -> Option<DMatrix<Real>> {
+pub fn dual_ae(de: &FaceMatrix, me: &FaceMatrix) -> Option<FaceMatrix> {
     let n = me.nrows();
+    if de.nrows() != n || de.ncols() != n {
+        return None;
+    }
     let f = frobenius(me);
     if f.is_nan() || f < EPS {
         return None;
@@ -114,7 +119,7 @@ pub fn dual_ae(de: &DMatrix<Real>, me: &DMatrix<Real>) -> Option<DMatrix<Real>> 
         return None;
     }
     let scale = 1.0 / f;
-    let mut ae = DMatrix::<Real>::zeros(n, n);
+    let mut ae = FaceMatrix::zeros(n, n);
     for i in 0..n {
         for j in 0..n {
             let mut t = 0.0;
@@ -128,7 +133,7 @@ pub fn dual_ae(de: &DMatrix<Real>, me: &DMatrix<Real>) -> Option<DMatrix<Real>> 
 }
 
 /// ublas `norm_frobenius`.
-fn frobenius(a: &DMatrix<Real>) -> Real {
+fn frobenius(a: &FaceMatrix) -> Real {
     let mut sum = 0.0;
     for i in 0..a.nrows() {
         for j in 0..a.ncols() {
@@ -140,7 +145,7 @@ fn frobenius(a: &DMatrix<Real>) -> Real {
 }
 
 /// The determinant `MathUtils::InvertMatrix4` divides by (the literal expression of `Det4`).
-fn det4(a: &DMatrix<Real>) -> Real {
+fn det4(a: &FaceMatrix) -> Real {
     let r = |i: usize, j: usize| a[(i, j)];
     r(0, 1) * r(1, 3) * r(2, 2) * r(3, 0)
         - r(0, 1) * r(1, 2) * r(2, 3) * r(3, 0)
@@ -171,10 +176,13 @@ fn det4(a: &DMatrix<Real>) -> Real {
 
 /// Kratos `MathUtils::InvertMatrix2/3/4`: the adjugate (literal expressions) divided by the
 /// determinant computed as those functions do; `None` for other sizes.
-fn invert_kratos(a: &DMatrix<Real>) -> Option<DMatrix<Real>> {
+fn invert_kratos(a: &FaceMatrix) -> Option<FaceMatrix> {
     let r = |i: usize, j: usize| a[(i, j)];
     let n = a.nrows();
-    let mut inv = DMatrix::<Real>::zeros(n, n);
+    if a.ncols() != n {
+        return None;
+    }
+    let mut inv = FaceMatrix::zeros(n, n);
     let det = match n {
         1 => {
             inv[(0, 0)] = 1.0 / r(0, 0);

@@ -3,6 +3,7 @@
 
 use super::cell::Segmentation;
 use super::face::{MortarFace, MortarMode};
+use super::face_matrix::face_shape_values;
 use crate::math::{EPS, Point, Real, Vector, norm_kratos};
 use crate::projection::fast_project_direction;
 use crate::{Error, ErrorKind, LocalCoordinatesSolver};
@@ -109,7 +110,7 @@ pub fn integration_points(
     } else {
         0.0
     };
-    let mut out = Vec::new();
+    let mut out = Vec::with_capacity(3 * segmentation.cells().len());
     // Many points on the same two faces: the point-independent work once.
     let slave_solver = LocalCoordinatesSolver::new(*sg);
     let master_solver = LocalCoordinatesSolver::new(*mg);
@@ -134,19 +135,8 @@ pub fn integration_points(
             }
             let global = Point::from(x);
             let slave_local = slave_solver.local_coordinates(&global)?;
-            let n_s = sg.shape_functions(&slave_local);
-            let mut normal = Vector::zeros();
-            for (i, ni) in n_s.iter().enumerate() {
-                normal += slave.nodal_normal(i) * *ni;
-            }
-            let norm = norm_kratos(&normal);
-            if norm.is_nan() || norm <= EPS {
-                return Err(Error::degenerate("zero Gauss-point normal"));
-            }
-            normal /= norm;
-            let (master_global, _) =
-                fast_project_direction(&mg.points()[0], &global, &master.normal(), &(-normal));
-            let master_local = master_solver.local_coordinates(&master_global)?;
+            let (normal, master_global, master_local) =
+                master_side(slave, master, &master_solver, &global, &slave_local)?;
             out.push(MortarIntegrationPoint {
                 cell: cell_idx,
                 global,
@@ -155,7 +145,7 @@ pub fn integration_points(
                 master_global,
                 master_local,
                 weight: w * det_j,
-                gauss_weight: w,
+                gauss_weight: *w,
                 det_j,
             });
         }
@@ -163,32 +153,86 @@ pub fn integration_points(
     Ok(out)
 }
 
+/// The Gauss-point normal (normalised `Σ N_s,i · n_i` of the slave's nodal normals at
+/// `slave_local`), the point on the master plane along `−normal` from `global` and its master
+/// local coordinates.
+fn master_side(
+    slave: &MortarFace<'_>,
+    master: &MortarFace<'_>,
+    master_solver: &LocalCoordinatesSolver<'_>,
+    global: &Point,
+    slave_local: &Point,
+) -> Result<(Vector, Point, Point), Error> {
+    let sg = slave.geometry();
+    let n_s = face_shape_values(sg.kind(), slave_local);
+    let mut normal = Vector::zeros();
+    for (i, ni) in n_s.iter().enumerate().take(sg.kind().n_nodes()) {
+        normal += slave.nodal_normal(i) * *ni;
+    }
+    let norm = norm_kratos(&normal);
+    if norm.is_nan() || norm <= EPS {
+        return Err(Error::degenerate("zero Gauss-point normal"));
+    }
+    normal /= norm;
+    let mg = master.geometry();
+    let (master_global, _) =
+        fast_project_direction(&mg.points()[0], global, &master.normal(), &(-normal));
+    let master_local = master_solver.local_coordinates(&master_global)?;
+    Ok((normal, master_global, master_local))
+}
+
+/// The Gauss points of `points` — [`integration_points`] of a pair whose slave has the
+/// geometry of `slave` — again with the nodal normals of `slave` and the master `master`:
+/// the cells, positions, slave local coordinates and weights are kept (they depend on the
+/// slave geometry and the cells only), the Gauss-point normal, the master projection and the
+/// master local coordinates computed anew. Bit for bit [`integration_points`]`(slave, master,
+/// segmentation, settings)` when `points` came from the same segmentation with the same
+/// `settings` (in 3D the cell test does not depend on them; tested), without the slave's
+/// local-coordinate iterations. Errors: those of the master side of [`integration_points`].
+pub fn integration_points_with_normals(
+    slave: &MortarFace<'_>,
+    master: &MortarFace<'_>,
+    points: &[MortarIntegrationPoint],
+) -> Result<Vec<MortarIntegrationPoint>, Error> {
+    let master_solver = LocalCoordinatesSolver::new(*master.geometry());
+    points
+        .iter()
+        .map(|gp| {
+            let (normal, master_global, master_local) =
+                master_side(slave, master, &master_solver, &gp.global, &gp.slave_local)?;
+            Ok(MortarIntegrationPoint {
+                normal,
+                master_global,
+                master_local,
+                ..*gp
+            })
+        })
+        .collect()
+}
+
 /// Gauss rule of a cell as (shape-function values of the cell at the point, weight): Line2D2
 /// Gauss–Legendre on [−1, 1]; Triangle3D3 `GI_GAUSS_1` (centroid, ½) and `GI_GAUSS_2`
 /// (1/6, 1/6), (2/3, 1/6), (1/6, 2/3) with weights 1/6.
-fn decomposition_rule(segment: bool, order: usize) -> Vec<([Real; 3], Real)> {
-    if segment {
-        let pts: &[(Real, Real)] = if order == 1 {
-            &[(0.0, 2.0)]
-        } else {
-            const G: Real = 0.577_350_269_189_625_8;
-            &[(-G, 1.0), (G, 1.0)]
-        };
-        pts.iter()
-            .map(|&(xi, w)| ([0.5 * (1.0 - xi), 0.5 * (1.0 + xi), 0.0], w))
-            .collect()
-    } else {
-        let pts: &[([Real; 2], Real)] = if order == 1 {
-            &[([1.0 / 3.0, 1.0 / 3.0], 0.5)]
-        } else {
-            &[
-                ([1.0 / 6.0, 1.0 / 6.0], 1.0 / 6.0),
-                ([2.0 / 3.0, 1.0 / 6.0], 1.0 / 6.0),
-                ([1.0 / 6.0, 2.0 / 3.0], 1.0 / 6.0),
-            ]
-        };
-        pts.iter()
-            .map(|&([xi, eta], w)| ([1.0 - xi - eta, xi, eta], w))
-            .collect()
+fn decomposition_rule(segment: bool, order: usize) -> &'static [([Real; 3], Real)] {
+    const G: Real = 0.577_350_269_189_625_8;
+    const SEGMENT_1: [([Real; 3], Real); 1] = [([0.5 * (1.0 - 0.0), 0.5 * (1.0 + 0.0), 0.0], 2.0)];
+    const SEGMENT_2: [([Real; 3], Real); 2] = [
+        ([0.5 * (1.0 - -G), 0.5 * (1.0 + -G), 0.0], 1.0),
+        ([0.5 * (1.0 - G), 0.5 * (1.0 + G), 0.0], 1.0),
+    ];
+    const fn tri(xi: Real, eta: Real, w: Real) -> ([Real; 3], Real) {
+        ([1.0 - xi - eta, xi, eta], w)
+    }
+    const TRIANGLE_1: [([Real; 3], Real); 1] = [tri(1.0 / 3.0, 1.0 / 3.0, 0.5)];
+    const TRIANGLE_2: [([Real; 3], Real); 3] = [
+        tri(1.0 / 6.0, 1.0 / 6.0, 1.0 / 6.0),
+        tri(2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0),
+        tri(1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0),
+    ];
+    match (segment, order) {
+        (true, 1) => &SEGMENT_1,
+        (true, _) => &SEGMENT_2,
+        (false, 1) => &TRIANGLE_1,
+        (false, _) => &TRIANGLE_2,
     }
 }

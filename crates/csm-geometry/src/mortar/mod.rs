@@ -16,6 +16,7 @@ mod cell;
 mod clip_face_face;
 mod dual_basis;
 mod face;
+mod face_matrix;
 mod integration_points;
 mod operators;
 mod segment_line_line;
@@ -30,9 +31,10 @@ pub use face::{
     CLIPPING_TOLERANCE, DUPLICATE_POINT_TOLERANCE, MortarFace, MortarMode,
     NEWTON_2D_MAX_ITERATIONS, NEWTON_2D_TOLERANCE, ROBUST_AREA_FACTOR, SegmentationSettings,
 };
+pub use face_matrix::{FaceMatrix, MAX_FACE_NODES};
 pub use integration_points::{
     EXPLICIT_LENGTH_FACTOR, MAPPER_LENGTH_FACTOR, MortarIntegrationPoint, OperatorSettings,
-    integration_points,
+    integration_points, integration_points_with_normals,
 };
 pub use operators::{MortarOperators, mortar_operators};
 pub use segmentation::exact_segmentation;

@@ -3,17 +3,17 @@
 
 use super::dual_basis::DualBasis;
 use super::face::MortarFace;
+use super::face_matrix::{FaceMatrix, face_shape_values};
 use super::integration_points::MortarIntegrationPoint;
 use crate::math::Real;
-use nalgebra::DMatrix;
 
-/// The mortar operators of one slave–master pair.
-#[derive(Debug, Clone, PartialEq)]
+/// The mortar operators of one slave–master pair (inline, no heap block).
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MortarOperators {
     /// `D(i, j) = Σ w · Φ_i · N_s,j` (slave × slave; diagonal for the pair's own dual basis).
-    pub d: DMatrix<Real>,
+    pub d: FaceMatrix,
     /// `M(i, j) = Σ w · Φ_i · N_m,j` (slave × master).
-    pub m: DMatrix<Real>,
+    pub m: FaceMatrix,
 }
 
 impl MortarOperators {
@@ -56,14 +56,14 @@ pub fn mortar_operators(
     let mg = master.geometry();
     let ns_count = sg.kind().n_nodes();
     let nm_count = mg.kind().n_nodes();
-    let mut d = DMatrix::<Real>::zeros(ns_count, ns_count);
-    let mut m = DMatrix::<Real>::zeros(ns_count, nm_count);
+    let mut d = FaceMatrix::zeros(ns_count, ns_count);
+    let mut m = FaceMatrix::zeros(ns_count, nm_count);
     for gp in points {
-        let ns = sg.shape_functions(&gp.slave_local);
-        let nm = mg.shape_functions(&gp.master_local);
+        let ns = face_shape_values(sg.kind(), &gp.slave_local);
+        let nm = face_shape_values(mg.kind(), &gp.master_local);
         let phi = match basis {
-            Some(b) => b.phi(&ns),
-            None => ns.to_vec(),
+            Some(b) => b.phi(&ns[..ns_count]),
+            None => ns,
         };
         // Kratos `MortarOperator::CalculateMortarOperators`:
         // `D += (detJ·w) · outer(Φ, N_s)`, `M += (detJ·w) · outer(Φ, N_m)`.

@@ -327,21 +327,107 @@ fn degenerate_2d_cells_are_skipped_by_the_length_check() {
 
 #[test]
 fn dual_ae_follows_the_condition_number_not_the_determinant() {
+    use super::FaceMatrix;
     use nalgebra::DMatrix;
-    let de = DMatrix::<Real>::identity(4, 4);
+    let diag = |v: [Real; 4]| {
+        let mut a = FaceMatrix::zeros(4, 4);
+        for (i, x) in v.into_iter().enumerate() {
+            a[(i, i)] = x;
+        }
+        a
+    };
+    let de = FaceMatrix::identity(4);
     // det(Me/f) ≈ 1e-17 < ε but condition number ≈ 1e7: dual (Kratos 10.4.4 does the same).
-    let me = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(vec![1.0, 1e-5, 1e-5, 1e-7]));
-    let f: Real = me.norm();
-    let scaled: DMatrix<Real> = &me / f;
+    let me = diag([1.0, 1e-5, 1e-5, 1e-7]);
+    let dense = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(vec![1.0, 1e-5, 1e-5, 1e-7]));
+    let scaled: DMatrix<Real> = &dense / dense.norm();
     assert!(scaled.determinant().abs() < crate::math::EPS);
     let ae = dual_ae(&de, &me).expect("well enough conditioned");
     assert_close(ae[(3, 3)] * 1e-7, 1.0, 1e-12);
     // Condition number ≈ 1e12 > 1e-4/ε: standard basis, whatever the determinant.
-    let me = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(vec![1.0, 1.0, 1.0, 1e-12]));
-    assert!(dual_ae(&de, &me).is_none());
+    assert!(dual_ae(&de, &diag([1.0, 1.0, 1.0, 1e-12])).is_none());
     // Exactly singular (an infinite inverse: Kratos would carry the inf/NaN on) and zero
-    // matrices.
-    let me = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(vec![1.0, 1.0, 1.0, 0.0]));
-    assert!(dual_ae(&de, &me).is_none());
-    assert!(dual_ae(&de, &DMatrix::zeros(4, 4)).is_none());
+    // matrices; sizes that differ.
+    assert!(dual_ae(&de, &diag([1.0, 1.0, 1.0, 0.0])).is_none());
+    assert!(dual_ae(&de, &FaceMatrix::zeros(4, 4)).is_none());
+    assert!(dual_ae(&FaceMatrix::identity(3), &me).is_none());
+}
+
+mod with_normals {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A warped face of `n` nodes around the unit square (triangle: three of its corners),
+    /// at height `z`, with node offsets `d`.
+    fn face(n: usize, z: Real, d: &[Real; 12]) -> Vec<Point> {
+        let corners = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+        (0..n)
+            .map(|i| {
+                let (x, y) = corners[i];
+                p(
+                    x + 0.2 * d[3 * i],
+                    y + 0.2 * d[3 * i + 1],
+                    z + 0.05 * d[3 * i + 2],
+                )
+            })
+            .collect()
+    }
+
+    fn normals(n: usize, up: Real, tilt: &[Real; 12]) -> Vec<Vector> {
+        (0..n)
+            .map(|i| Vector::new(0.3 * tilt[3 * i], 0.3 * tilt[3 * i + 1], up).normalize())
+            .collect()
+    }
+
+    proptest! {
+        /// The Gauss points with other nodal normals from those of the first pass are the
+        /// points of a new integration, bit for bit (what the mapping's weighted gap relies on).
+        #[test]
+        fn reintegration_is_integration_bit_for_bit(
+            ns in 3usize..5,
+            nm in 3usize..5,
+            ds in prop::array::uniform12(-1.0f64..1.0),
+            dm in prop::array::uniform12(-1.0f64..1.0),
+            t1 in prop::array::uniform12(-1.0f64..1.0),
+            t2 in prop::array::uniform12(-1.0f64..1.0),
+            shift in (-0.7f64..0.7, -0.7f64..0.7),
+        ) {
+            let sp = face(ns, 0.0, &ds);
+            let mut mp = face(nm, 0.01, &dm);
+            mp.reverse();
+            for q in &mut mp {
+                q.x += shift.0;
+                q.y += shift.1;
+            }
+            let (n1, n2) = (normals(ns, 1.0, &t1), normals(ns, 1.0, &t2));
+            let (m1, m2) = (normals(nm, -1.0, &t2), normals(nm, -1.0, &t1));
+            let sg = Geometry::new(kind_of(&sp), &sp).unwrap();
+            let mg = Geometry::new(kind_of(&mp), &mp).unwrap();
+            let s1 = MortarFace::new(sg, UP).unwrap().with_nodal_normals(&n1).unwrap();
+            let s2 = MortarFace::new(sg, UP).unwrap().with_nodal_normals(&n2).unwrap();
+            let ma1 = MortarFace::new(mg, DOWN).unwrap().with_nodal_normals(&m1).unwrap();
+            let ma2 = MortarFace::new(mg, DOWN).unwrap().with_nodal_normals(&m2).unwrap();
+            for mode in [MortarMode::Kratos, MortarMode::Robust] {
+                let settings = SegmentationSettings { mode, distance_threshold: 1e24 };
+                let Some(seg) = exact_segmentation(&s1, &ma1, &settings).unwrap() else {
+                    continue;
+                };
+                for ops in [OperatorSettings::mapper(), OperatorSettings::explicit()] {
+                    let first = integration_points(&s1, &ma1, &seg, &ops).unwrap();
+                    let again = integration_points_with_normals(&s2, &ma2, &first);
+                    let fresh = integration_points(&s2, &ma2, &seg, &ops);
+                    prop_assert_eq!(format!("{again:?}"), format!("{fresh:?}"));
+                    prop_assert!(!first.is_empty());
+                    // The dual basis and D depend on the slave side only.
+                    let fresh = fresh.unwrap();
+                    prop_assert_eq!(dual_basis(&s1, &first), dual_basis(&s2, &fresh));
+                    let b = dual_basis(&s2, &fresh);
+                    prop_assert_eq!(
+                        mortar_operators(&s1, &ma1, &first, Some(&b)).d,
+                        mortar_operators(&s2, &ma2, &fresh, Some(&b)).d
+                    );
+                }
+            }
+        }
+    }
 }

@@ -388,8 +388,8 @@ fn mapping_error(
         let ops = mortar_operators(&sf, &mf, &gps, Some(&basis));
         // Partition of unity of the pair: Σ_j M_ij = Σ_k D_ik.
         for i in 0..n_s {
-            let sm: Real = ops.m.row(i).sum();
-            let sd: Real = ops.d.row(i).sum();
+            let sm: Real = ops.m.row(i).iter().sum();
+            let sd: Real = ops.d.row(i).iter().sum();
             assert!((sm - sd).abs() <= 1e-12, "row sums {sm} vs {sd}");
             if basis.is_dual() {
                 for k in 0..n_s {
@@ -399,7 +399,11 @@ fn mapping_error(
                 }
             }
         }
-        d += &ops.d;
+        for i in 0..n_s {
+            for k in 0..n_s {
+                d[(i, k)] += ops.d[(i, k)];
+            }
+        }
         let fm: Vec<Real> = master.iter().map(f).collect();
         for i in 0..n_s {
             for (j, v) in fm.iter().enumerate() {

@@ -564,35 +564,13 @@ impl<'a> Reader<'a> {
                     self.ids = ids;
                 }
                 "SubModelPartElements" => {
-                    let mut v = Vec::new();
-                    let (ids, start) = self.id_list(btext)?;
-                    for (k, id) in ids.into_iter().enumerate() {
-                        let i = self.mp.elements().index_of(id).ok_or_else(|| {
-                            self.missing(
-                                csm_model::EntityKind::Element,
-                                id,
-                                self.word_pos(start, k),
-                            )
-                        })?;
-                        v.push(csm_model::ElementIdx(i as u32));
-                    }
-                    v.sort_unstable();
+                    let v = self.entity_list(btext, csm_model::EntityKind::Element)?;
+                    let v: Vec<_> = v.into_iter().map(csm_model::ElementIdx).collect();
                     self.mp.add_elements_to_part(part, &v);
                 }
                 "SubModelPartConditions" => {
-                    let mut v = Vec::new();
-                    let (ids, start) = self.id_list(btext)?;
-                    for (k, id) in ids.into_iter().enumerate() {
-                        let i = self.mp.conditions().index_of(id).ok_or_else(|| {
-                            self.missing(
-                                csm_model::EntityKind::Condition,
-                                id,
-                                self.word_pos(start, k),
-                            )
-                        })?;
-                        v.push(csm_model::ConditionIdx(i as u32));
-                    }
-                    v.sort_unstable();
+                    let v = self.entity_list(btext, csm_model::EntityKind::Condition)?;
+                    let v: Vec<_> = v.into_iter().map(csm_model::ConditionIdx).collect();
                     self.mp.add_conditions_to_part(part, &v);
                 }
                 "SubModelPartData"
@@ -616,6 +594,28 @@ impl<'a> Reader<'a> {
                 }
             }
         }
+    }
+
+    /// The sorted dense indices of the element or condition (`entity`) ids of `block`.
+    fn entity_list(
+        &mut self,
+        block: &str,
+        entity: csm_model::EntityKind,
+    ) -> Result<Vec<u32>, Error> {
+        let (ids, start) = self.id_list(block)?;
+        let entities = match entity {
+            csm_model::EntityKind::Element => self.mp.elements(),
+            _ => self.mp.conditions(),
+        };
+        let mut v = Vec::with_capacity(ids.len());
+        for (k, id) in ids.into_iter().enumerate() {
+            let i = entities
+                .index_of(id)
+                .ok_or_else(|| self.missing(entity, id, self.word_pos(start, k)))?;
+            v.push(u32::try_from(i).expect("entity index fits u32"));
+        }
+        v.sort_unstable();
+        Ok(v)
     }
 
     fn missing(&self, entity: csm_model::EntityKind, id: u32, pos: usize) -> Error {
