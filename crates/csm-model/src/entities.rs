@@ -19,6 +19,14 @@ pub struct Nodes {
 }
 
 impl Nodes {
+    /// Room for `additional` more nodes in every column.
+    pub(crate) fn reserve(&mut self, additional: usize) {
+        self.ids.reserve(additional);
+        self.initial.reserve(additional);
+        self.coordinates.reserve(additional);
+        self.flags.reserve(additional);
+    }
+
     /// Number of nodes.
     pub fn len(&self) -> usize {
         self.ids.len()
@@ -81,6 +89,18 @@ pub struct Entities {
 }
 
 impl Entities {
+    /// Room for `additional` more entities of `nodes_each` nodes in every column.
+    pub(crate) fn reserve(&mut self, additional: usize, nodes_each: usize) {
+        self.ids.reserve(additional);
+        self.kinds.reserve(additional);
+        self.names.reserve(additional);
+        self.offsets.reserve(additional);
+        self.connectivity
+            .reserve(additional.saturating_mul(nodes_each));
+        self.properties.reserve(additional);
+        self.flags.reserve(additional);
+    }
+
     /// Number of entities.
     pub fn len(&self) -> usize {
         self.ids.len()

@@ -129,6 +129,24 @@ impl ModelPart {
         &mut self.condition_normals
     }
 
+    /// Room for `additional` more nodes (a hint for readers that know how many will come:
+    /// nothing observable changes, the arrays grow without intermediate copies).
+    pub fn reserve_nodes(&mut self, additional: usize) {
+        self.nodes.reserve(additional);
+    }
+
+    /// Room for `additional` more elements (`conditions == false`) or conditions of
+    /// `nodes_each` nodes (a hint, as [`ModelPart::reserve_nodes`]).
+    pub fn reserve_entities(&mut self, conditions: bool, additional: usize, nodes_each: usize) {
+        if conditions {
+            self.conditions.reserve(additional, nodes_each);
+            self.index_maps.reserve(additional);
+            self.condition_normals.reserve(additional);
+        } else {
+            self.elements.reserve(additional, nodes_each);
+        }
+    }
+
     /// Adds a node with external id `id`. Errors on a duplicate id or a non-finite
     /// coordinate.
     pub fn add_node(&mut self, id: NodeId, position: Point) -> Result<NodeIdx, Error> {

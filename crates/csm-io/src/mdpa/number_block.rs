@@ -64,6 +64,16 @@ pub(crate) fn window_end(data: &[u8], at: usize, end: usize, bytes: usize) -> us
         .map_or(end, |k| target + k + 1)
 }
 
+/// The records a body of `body_bytes` likely holds when its first window of `window_bytes`
+/// held `records` (for reserving room; a few more than the proportion).
+pub(crate) fn estimate_records(records: usize, window_bytes: usize, body_bytes: usize) -> usize {
+    if window_bytes == 0 {
+        return records;
+    }
+    let estimate = records as f64 * (body_bytes as f64 / window_bytes as f64) * 1.01;
+    (estimate as usize).saturating_add(16)
+}
+
 /// What the words of a record are.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Record {
@@ -188,6 +198,14 @@ mod tests {
         assert_eq!(window_end(text, 0, 12, 1), 4);
         assert_eq!(window_end(text, 4, 12, 4), 12);
         assert_eq!(window_end(text, 0, 12, 100), 12);
+    }
+
+    #[test]
+    fn the_estimate_scales_the_first_window_to_the_body() {
+        assert!((100..=120).contains(&estimate_records(10, 100, 1000)));
+        assert_eq!(estimate_records(7, 0, 1000), 7);
+        // Absurd sizes saturate instead of overflowing.
+        assert!(estimate_records(usize::MAX, 1, usize::MAX) > 0);
     }
 
     #[test]

@@ -302,7 +302,15 @@ impl<'a> Reader<'a> {
 
     fn nodes(&mut self) -> Result<(), Error> {
         let end = self.plain_body_end();
+        let body_start = self.cur.pos();
         while let Some((parsed, start)) = self.parallel_window(Record::Node, end) {
+            if start == body_start {
+                let records = parsed.ids.len();
+                let body = end.unwrap_or(body_start) - body_start;
+                let window = self.cur.pos() - start;
+                self.mp
+                    .reserve_nodes(number_block::estimate_records(records, window, body));
+            }
             for (k, (id, x)) in parsed.ids.iter().zip(&parsed.coordinates).enumerate() {
                 if let Err(e) = self.mp.add_node(NodeId(*id), (*x).into()) {
                     return Err(self.model_err(self.word_pos(start, 4 * k), e));
@@ -341,7 +349,16 @@ impl<'a> Reader<'a> {
         let mut conn: Vec<NodeId> = Vec::with_capacity(kind.n_nodes());
         let width = kind.n_nodes() + 2;
         let end = self.plain_body_end();
+        let body_start = self.cur.pos();
         while let Some((parsed, start)) = self.parallel_window(Record::Ids(width), end) {
+            if start == body_start {
+                let records = parsed.ids.len() / width;
+                let body = end.unwrap_or(body_start) - body_start;
+                let window = self.cur.pos() - start;
+                let estimate = number_block::estimate_records(records, window, body);
+                self.mp
+                    .reserve_entities(!is_element, estimate, kind.n_nodes());
+            }
             for (k, record) in parsed.ids.chunks_exact(width).enumerate() {
                 conn.clear();
                 conn.extend(record[2..].iter().map(|&n| NodeId(n)));
