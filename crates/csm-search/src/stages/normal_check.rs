@@ -268,6 +268,12 @@ fn inward_nodes(
         return Ok(Vec::new());
     }
     let nodes = model.elements().nodes(e);
+    let flags = model.nodes().flags();
+    // Kratos computes the element's Length() for an INTERFACE node only: an element without
+    // one is neither measured nor tested (pass 1 built its geometry already).
+    if !nodes.iter().any(|n| flags[n.index()].is(Flag::INTERFACE)) {
+        return Ok(Vec::new());
+    }
     model.gather_points(nodes, points);
     let element = Geometry::new(kind, points).map_err(|err| element_error(model, e, err))?;
     let length = element
@@ -276,7 +282,7 @@ fn inward_nodes(
     let mut inward = Vec::new();
     let mut checked = false;
     for (n, x) in nodes.iter().zip(points.iter()) {
-        if !model.nodes().flags()[n.index()].is(Flag::INTERFACE) {
+        if !flags[n.index()].is(Flag::INTERFACE) {
             continue;
         }
         let normal = normals

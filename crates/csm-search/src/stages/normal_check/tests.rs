@@ -236,3 +236,53 @@ fn normals_only_equals_the_full_check_without_solids() {
 fn solid_elements_are_counted() {
     assert_eq!(count_solid_elements(&cube([1, 2, 3, 4, 5, 6, 7, 8])), 1);
 }
+
+/// Kratos measures an element in pass 2 only for an INTERFACE node: a prism whose Jacobian is
+/// singular at its first corner (where its Length() is taken) but not at its centre passes the
+/// check without INTERFACE nodes and fails it with one.
+#[test]
+fn pass_2_measures_only_elements_with_interface_nodes() {
+    let prism = |interface: bool| {
+        let mut m = ModelPart::new("Main");
+        let points = [
+            (0.0, 0.0, 0.0),
+            (1.0, 0.0, 0.0),
+            (0.0, 1.0, 0.0),
+            (0.3, 0.3, 0.0),
+            (1.0, 0.0, 1.0),
+            (0.0, 1.0, 1.0),
+        ];
+        for (i, (x, y, z)) in points.iter().enumerate() {
+            m.add_node(NodeId(i as u32 + 1), Point::new(*x, *y, *z))
+                .unwrap();
+            m.nodes_mut().flags_mut()[i].set(Flag::INTERFACE, interface);
+        }
+        let ids: Vec<NodeId> = (1..=6).map(NodeId).collect();
+        m.add_element(
+            ElementId(1),
+            GeometryKind::Prism3D6,
+            "",
+            &ids,
+            PropertiesId(1),
+        )
+        .unwrap();
+        m
+    };
+    let g = [
+        Point::new(0.0, 0.0, 0.0),
+        Point::new(1.0, 0.0, 0.0),
+        Point::new(0.0, 1.0, 0.0),
+        Point::new(0.3, 0.3, 0.0),
+        Point::new(1.0, 0.0, 1.0),
+        Point::new(0.0, 1.0, 1.0),
+    ];
+    assert!(
+        Geometry::new(GeometryKind::Prism3D6, &g)
+            .unwrap()
+            .length()
+            .is_err()
+    );
+    assert!(normal_check(&mut prism(false), &NormalCheckSettings::default()).is_ok());
+    let e = normal_check(&mut prism(true), &NormalCheckSettings::default()).unwrap_err();
+    assert!(e.to_string().contains("zero length"), "{e}");
+}
