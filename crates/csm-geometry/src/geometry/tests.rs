@@ -355,9 +355,9 @@ fn quad_local_coordinates_invariances() {
     check_close(l3.y, l.y, 1e-9);
 }
 
-/// `face_unit_normals` is bit-identical to evaluating the unit normal at the local
-/// coordinates of the centre and of every node (the affine shortcut included), and refuses
-/// solids.
+/// `face_unit_normals` and `centre_unit_normal` are bit-identical to evaluating the unit
+/// normal at the local coordinates of the centre and of every node (the affine shortcut
+/// included), and refuse solids.
 #[test]
 fn face_unit_normals_equal_the_per_point_normals_bit_for_bit() {
     let tri = [p(0.1, 0.2, 0.3), p(1.3, 0.1, 0.7), p(0.2, 1.1, -0.4)];
@@ -389,6 +389,7 @@ fn face_unit_normals_equal_the_per_point_normals_bit_for_bit() {
         };
         let normals = g.face_unit_normals().unwrap();
         assert_eq!(normals.centre, at(&g.center()), "{kind:?}");
+        assert_eq!(g.centre_unit_normal().unwrap(), at(&g.center()), "{kind:?}");
         let expected: Vec<Vector> = points.iter().map(at).collect();
         assert_eq!(normals.nodes(), &expected[..], "{kind:?}");
     }
@@ -401,6 +402,10 @@ fn face_unit_normals_equal_the_per_point_normals_bit_for_bit() {
     let g = Geometry::new(GeometryKind::Tetrahedra3D4, &tet).unwrap();
     assert!(matches!(
         g.face_unit_normals().unwrap_err().kind(),
+        ErrorKind::Unsupported(_)
+    ));
+    assert!(matches!(
+        g.centre_unit_normal().unwrap_err().kind(),
         ErrorKind::Unsupported(_)
     ));
 }

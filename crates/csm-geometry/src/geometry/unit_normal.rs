@@ -30,6 +30,28 @@ impl Geometry<'_> {
         })
     }
 
+    /// The unit normal at the local coordinates of the centre (the node mean), Kratos'
+    /// `UnitNormal(PointLocalCoordinates(Center()))`: bit for bit
+    /// `unit_normal(&point_local_coordinates(&center())?)`. Affine faces (Line2D2,
+    /// Triangle3D3) have one normal everywhere, so their centre's local coordinates are not
+    /// computed (a non-finite centre is still refused).
+    ///
+    /// Errors: as [`unit_normal`](Self::unit_normal) and
+    /// [`point_local_coordinates`](Self::point_local_coordinates).
+    pub fn centre_unit_normal(&self) -> Result<Vector, Error> {
+        let centre = self.center();
+        if matches!(
+            self.kind(),
+            crate::GeometryKind::Line2D2 | crate::GeometryKind::Triangle3D3
+        ) {
+            if !crate::math::is_finite_point(&centre) {
+                return Err(Error::new(ErrorKind::NonFinite));
+            }
+            return self.unit_normal(&self.reference_center());
+        }
+        self.unit_normal(&self.point_local_coordinates(&centre)?)
+    }
+
     /// The unit normal of a face at `local` (Kratos conventions, see [`normal`](Self::normal)),
     /// normalised by division by its norm.
     ///
@@ -112,13 +134,8 @@ impl Geometry<'_> {
             };
             self.unit_normal(&local)
         };
-        // Affine: the normal at any local point is the normal (the local coordinates of the
-        // centre are not needed); a non-finite centre is still refused.
         let centre = if affine {
-            if !crate::math::is_finite_point(&self.center()) {
-                return Err(Error::new(ErrorKind::NonFinite));
-            }
-            self.unit_normal(&self.reference_center())?
+            self.centre_unit_normal()?
         } else {
             at(&self.center())?
         };

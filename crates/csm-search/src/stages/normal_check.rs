@@ -306,8 +306,7 @@ fn face_probe(
 ) -> Result<(Point, Vector), csm_geometry::Error> {
     let face = Geometry::new(kind, points)?;
     let centre = face.center();
-    let local = face.point_local_coordinates(&centre)?;
-    let normal = face.unit_normal(&local)?;
+    let normal = face.centre_unit_normal()?;
     let length = face.length()?;
     Ok((centre + normal * (lp * length), normal))
 }
