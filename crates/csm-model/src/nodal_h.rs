@@ -11,6 +11,7 @@
 //! build), and is kept as [`NodalHMode::StaleRead`] for the revisions that have it.
 
 use csm_geometry::math::Real;
+use rayon::prelude::*;
 
 use crate::{ModelPart, NodeIdx, PartIdx, ScalarVar};
 
@@ -35,51 +36,90 @@ pub enum NodalHMode {
 /// Computes NODAL_H for every node of `model` from the elements of `part` (the whole model
 /// when `None`), by node index. Nodes in no element get `f64::MAX`.
 pub fn compute_nodal_h(model: &ModelPart, part: Option<PartIdx>, mode: NodalHMode) -> Vec<Real> {
+    compute_nodal_h_with(model, part, mode, PARALLEL_MIN_ELEMENTS)
+}
+
+/// Elements below which [`compute_nodal_h`] runs serially.
+const PARALLEL_MIN_ELEMENTS: usize = 1 << 14;
+
+/// [`compute_nodal_h`]; the minima of [`NodalHMode::Kratos`] and [`NodalHMode::MinimumEdge`]
+/// are taken over element chunks in parallel from `parallel_min` elements on (one array per
+/// worker, then the element-wise minimum: a minimum of the same distances in any grouping is
+/// the same value), [`NodalHMode::StaleRead`] in element order.
+fn compute_nodal_h_with(
+    model: &ModelPart,
+    part: Option<PartIdx>,
+    mode: NodalHMode,
+    parallel_min: usize,
+) -> Vec<Real> {
+    let n_nodes = model.nodes().len();
+    let order: Vec<usize> = match part {
+        None => (0..model.elements().len()).collect(),
+        Some(p) => model.part(p).elements().iter().map(|e| e.index()).collect(),
+    };
+    let workers = rayon::current_num_threads();
+    if mode == NodalHMode::StaleRead || workers < 2 || order.len() < parallel_min.max(1) {
+        let mut h = vec![Real::MAX; n_nodes];
+        for &e in &order {
+            lower_nodal_h(model, e, mode, &mut h);
+        }
+        return h;
+    }
+    let chunk = order.len().div_ceil(workers);
+    let mut partial: Vec<Vec<Real>> = order
+        .par_chunks(chunk)
+        .map(|elements| {
+            let mut h = vec![Real::MAX; n_nodes];
+            for &e in elements {
+                lower_nodal_h(model, e, mode, &mut h);
+            }
+            h
+        })
+        .collect();
+    let mut h = partial.swap_remove(0);
+    for other in &partial {
+        h.par_iter_mut()
+            .zip(other.par_iter())
+            .for_each(|(a, b)| *a = a.min(*b));
+    }
+    h
+}
+
+/// Lowers the NODAL_H of the nodes of element `e` with the distances between them.
+fn lower_nodal_h(model: &ModelPart, e: usize, mode: NodalHMode, h: &mut [Real]) {
     let coords = model.nodes().coordinates();
-    let mut h = vec![Real::MAX; coords.len()];
     let elements = model.elements();
     let distance = |a: NodeIdx, b: NodeIdx| {
         let d = coords[b.index()] - coords[a.index()];
         (d.x * d.x + d.y * d.y + d.z * d.z).sqrt()
     };
-    let mut visit = |e: usize| {
-        let nodes = elements.nodes(e);
-        match mode {
-            NodalHMode::Kratos | NodalHMode::StaleRead => {
-                for k in 0..nodes.len().saturating_sub(1) {
-                    let ik = nodes[k].index();
-                    let h_before = h[ik];
-                    for &nl in &nodes[k + 1..] {
-                        let d = distance(nodes[k], nl);
-                        let current = if mode == NodalHMode::Kratos {
-                            h[ik]
-                        } else {
-                            h_before
-                        };
-                        h[ik] = current.min(d);
-                        h[nl.index()] = h[nl.index()].min(d);
-                    }
-                }
-            }
-            NodalHMode::MinimumEdge => {
-                for [a, b] in elements.kind(e).edges() {
-                    let (na, nb) = (nodes[*a], nodes[*b]);
-                    let d = distance(na, nb);
-                    h[na.index()] = h[na.index()].min(d);
-                    h[nb.index()] = h[nb.index()].min(d);
+    let nodes = elements.nodes(e);
+    match mode {
+        NodalHMode::Kratos | NodalHMode::StaleRead => {
+            for k in 0..nodes.len().saturating_sub(1) {
+                let ik = nodes[k].index();
+                let h_before = h[ik];
+                for &nl in &nodes[k + 1..] {
+                    let d = distance(nodes[k], nl);
+                    let current = if mode == NodalHMode::Kratos {
+                        h[ik]
+                    } else {
+                        h_before
+                    };
+                    h[ik] = current.min(d);
+                    h[nl.index()] = h[nl.index()].min(d);
                 }
             }
         }
-    };
-    match part {
-        None => (0..elements.len()).for_each(&mut visit),
-        Some(p) => model
-            .part(p)
-            .elements()
-            .iter()
-            .for_each(|e| visit(e.index())),
+        NodalHMode::MinimumEdge => {
+            for [a, b] in elements.kind(e).edges() {
+                let (na, nb) = (nodes[*a], nodes[*b]);
+                let d = distance(na, nb);
+                h[na.index()] = h[na.index()].min(d);
+                h[nb.index()] = h[nb.index()].min(d);
+            }
+        }
     }
-    h
 }
 
 /// Computes NODAL_H (see [`compute_nodal_h`]) and stores it in the historical variable

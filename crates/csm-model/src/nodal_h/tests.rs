@@ -86,3 +86,53 @@ fn a_part_without_elements_leaves_every_node_at_max_and_assign_stores_it() {
         3.0
     );
 }
+
+/// The parallel minima (element chunks per worker, then the element-wise minimum) are the
+/// serial ones bit for bit, for the whole model and for a part.
+#[test]
+fn parallel_minima_are_the_serial_ones() {
+    let mut mp = ModelPart::new("Structure");
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    for i in 0..400u32 {
+        let mut c = || (next() % 10_000) as f64 * 1e-3 + 0.1 * f64::from(i);
+        mp.add_node(NodeId(i + 1), Point::new(c(), c(), c()))
+            .unwrap();
+    }
+    for e in 0..900u32 {
+        let ids: Vec<NodeId> = (0..4).map(|_| NodeId((next() % 400) as u32 + 1)).collect();
+        mp.add_element(
+            ElementId(e + 1),
+            GeometryKind::Tetrahedra3D4,
+            "",
+            &ids,
+            PropertiesId(0),
+        )
+        .unwrap();
+    }
+    let part = mp.create_part("Half").unwrap();
+    let half: Vec<crate::ElementIdx> = (0..450).map(crate::ElementIdx).collect();
+    mp.add_elements_to_part(part, &half);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap();
+    for mode in [
+        NodalHMode::Kratos,
+        NodalHMode::MinimumEdge,
+        NodalHMode::StaleRead,
+    ] {
+        for p in [None, Some(part)] {
+            let serial = compute_nodal_h_with(&mp, p, mode, usize::MAX);
+            let parallel = pool.install(|| compute_nodal_h_with(&mp, p, mode, 1));
+            let bits = |h: &[f64]| h.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&parallel), bits(&serial), "{mode:?} {p:?}");
+            assert!(serial.iter().any(|&x| x < f64::MAX));
+        }
+    }
+}
