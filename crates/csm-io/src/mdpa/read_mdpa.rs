@@ -120,6 +120,24 @@ pub(crate) fn read_mdpa_with(
     Ok(mp)
 }
 
+/// Adds element (`is_element`) or condition `id` of `kind` named `name` to `mp`.
+fn add_entity(
+    mp: &mut ModelPart,
+    is_element: bool,
+    (id, kind, name): (u32, csm_geometry::GeometryKind, &str),
+    conn: &[NodeId],
+    prop: PropertiesId,
+) -> Result<(), csm_model::Error> {
+    mp.ensure_properties(prop);
+    if is_element {
+        mp.add_element(ElementId(id), kind, name, conn, prop)
+            .map(|_| ())
+    } else {
+        mp.add_condition(ConditionId(id), kind, name, conn, prop)
+            .map(|_| ())
+    }
+}
+
 struct Reader<'a> {
     cur: Cursor<'a>,
     mp: ModelPart,
@@ -269,21 +287,53 @@ impl<'a> Reader<'a> {
         number_block::plain_body_end(self.cur.data(), self.cur.pos())
     }
 
-    /// The next window of the plain body ending at `end` (from
-    /// [`plain_body_end`](Self::plain_body_end)), parsed in parallel as `record`s, and its
-    /// start; `None` when the cursor has to go on (no plain body, its end reached, or a window
-    /// it must read word by word).
-    fn parallel_window(&mut self, record: Record, end: Option<usize>) -> Option<(Parsed, usize)> {
-        let (sizes, end) = (self.parallel?, end?);
+    /// The plain body of the current block (see [`number_block::plain_body_end`]) as
+    /// `record`s, window by window: each window is parsed in parallel while the previous one
+    /// is used by `insert` (the model, the window's records, how many records the whole body
+    /// likely holds — for reserving room — on the first window, else 0). `insert` returns the
+    /// word index (from the window's start) and the error of a record it refuses. The cursor
+    /// is left after the last window used: at the block's `End`, or at the start of a window
+    /// it must read word by word.
+    fn parallel_records(
+        &mut self,
+        record: Record,
+        mut insert: impl FnMut(&mut ModelPart, &Parsed, usize) -> Result<(), (usize, csm_model::Error)>
+        + Send,
+    ) -> Result<(), Error> {
+        let (Some(sizes), Some(end)) = (self.parallel, self.plain_body_end()) else {
+            return Ok(());
+        };
         let data = self.cur.data();
-        let at = self.cur.pos();
-        if at >= end {
-            return None;
+        let body_start = self.cur.pos();
+        let parse = |at: usize| -> Option<(Parsed, usize)> {
+            if at >= end {
+                return None;
+            }
+            let to = number_block::window_end(data, at, end, sizes.window);
+            number_block::parse_window(data, (at, to), record, sizes.min_chunk).map(|p| (p, to))
+        };
+        let mut at = body_start;
+        let mut current = parse(at);
+        while let Some((parsed, to)) = current {
+            let estimate = if at == body_start {
+                let records = match record {
+                    Record::Node => parsed.ids.len(),
+                    Record::Ids(n) => parsed.ids.len() / n.max(1),
+                };
+                number_block::estimate_records(records, to - at, end - body_start)
+            } else {
+                0
+            };
+            let mp = &mut self.mp;
+            let (next, inserted) = rayon::join(|| parse(to), || insert(mp, &parsed, estimate));
+            if let Err((word, e)) = inserted {
+                return Err(self.model_err(self.word_pos(at, word), e));
+            }
+            self.cur.set_pos(to);
+            at = to;
+            current = next;
         }
-        let to = number_block::window_end(data, at, end, sizes.window);
-        let parsed = number_block::parse_window(data, (at, to), record, sizes.min_chunk)?;
-        self.cur.set_pos(to);
-        Some((parsed, at))
+        Ok(())
     }
 
     /// The byte offset of word `k` (from 0) after `start`.
@@ -301,22 +351,14 @@ impl<'a> Reader<'a> {
     }
 
     fn nodes(&mut self) -> Result<(), Error> {
-        let end = self.plain_body_end();
-        let body_start = self.cur.pos();
-        while let Some((parsed, start)) = self.parallel_window(Record::Node, end) {
-            if start == body_start {
-                let records = parsed.ids.len();
-                let body = end.unwrap_or(body_start) - body_start;
-                let window = self.cur.pos() - start;
-                self.mp
-                    .reserve_nodes(number_block::estimate_records(records, window, body));
-            }
+        self.parallel_records(Record::Node, |mp, parsed, estimate| {
+            mp.reserve_nodes(estimate);
             for (k, (id, x)) in parsed.ids.iter().zip(&parsed.coordinates).enumerate() {
-                if let Err(e) = self.mp.add_node(NodeId(*id), (*x).into()) {
-                    return Err(self.model_err(self.word_pos(start, 4 * k), e));
-                }
+                mp.add_node(NodeId(*id), (*x).into())
+                    .map_err(|e| (4 * k, e))?;
             }
-        }
+            Ok(())
+        })?;
         loop {
             let t = self.next("Nodes")?;
             let (text, pos) = (t.text, t.pos);
@@ -348,30 +390,24 @@ impl<'a> Reader<'a> {
         })?;
         let mut conn: Vec<NodeId> = Vec::with_capacity(kind.n_nodes());
         let width = kind.n_nodes() + 2;
-        let end = self.plain_body_end();
-        let body_start = self.cur.pos();
-        while let Some((parsed, start)) = self.parallel_window(Record::Ids(width), end) {
-            if start == body_start {
-                let records = parsed.ids.len() / width;
-                let body = end.unwrap_or(body_start) - body_start;
-                let window = self.cur.pos() - start;
-                let estimate = number_block::estimate_records(records, window, body);
-                self.mp
-                    .reserve_entities(!is_element, estimate, kind.n_nodes());
-            }
+        let nodes_each = kind.n_nodes();
+        self.parallel_records(Record::Ids(width), |mp, parsed, estimate| {
+            mp.reserve_entities(!is_element, estimate, nodes_each);
+            let mut conn = Vec::with_capacity(nodes_each);
             for (k, record) in parsed.ids.chunks_exact(width).enumerate() {
                 conn.clear();
                 conn.extend(record[2..].iter().map(|&n| NodeId(n)));
-                if let Err(e) = self.add_entity(
+                add_entity(
+                    mp,
                     is_element,
                     (record[0], kind, &name),
                     &conn,
                     PropertiesId(record[1]),
-                ) {
-                    return Err(self.model_err(self.word_pos(start, width * k), e));
-                }
+                )
+                .map_err(|e| (width * k, e))?;
             }
-        }
+            Ok(())
+        })?;
         loop {
             let t = self.next(block)?;
             let (text, pos) = (t.text, t.pos);
@@ -389,28 +425,8 @@ impl<'a> Reader<'a> {
             for _ in 0..kind.n_nodes() {
                 conn.push(NodeId(self.cur.id("a node id")?));
             }
-            self.add_entity(is_element, (id, kind, &name), &conn, prop)
+            add_entity(&mut self.mp, is_element, (id, kind, &name), &conn, prop)
                 .map_err(|e| self.model_err(pos, e))?;
-        }
-    }
-
-    /// Adds element (`is_element`) or condition `id` of `kind` named `name`.
-    fn add_entity(
-        &mut self,
-        is_element: bool,
-        (id, kind, name): (u32, csm_geometry::GeometryKind, &str),
-        conn: &[NodeId],
-        prop: PropertiesId,
-    ) -> Result<(), csm_model::Error> {
-        self.mp.ensure_properties(prop);
-        if is_element {
-            self.mp
-                .add_element(ElementId(id), kind, name, conn, prop)
-                .map(|_| ())
-        } else {
-            self.mp
-                .add_condition(ConditionId(id), kind, name, conn, prop)
-                .map(|_| ())
         }
     }
 
@@ -519,10 +535,11 @@ impl<'a> Reader<'a> {
     fn id_list(&mut self, block: &str) -> Result<(Vec<u32>, usize), Error> {
         let start = self.cur.pos();
         let mut out = Vec::new();
-        let end = self.plain_body_end();
-        while let Some((mut parsed, _)) = self.parallel_window(Record::Ids(1), end) {
-            out.append(&mut parsed.ids);
-        }
+        self.parallel_records(Record::Ids(1), |_, parsed, estimate| {
+            out.reserve(estimate);
+            out.extend_from_slice(&parsed.ids);
+            Ok(())
+        })?;
         loop {
             let t = self.next(block)?;
             let (text, pos) = (t.text, t.pos);
