@@ -14,8 +14,6 @@
 
 use rayon::prelude::*;
 
-use crate::cursor::{parse_f64, parse_u64};
-
 /// The bytes a window of a block holds (cut at a line end); its chunks are parsed in parallel.
 /// Bounds the parsed records held at once.
 pub(crate) const WINDOW_BYTES: usize = 4 << 20;
@@ -133,15 +131,12 @@ fn parse_chunk(chunk: &[u8], record: Record) -> Option<Parsed> {
     let mut out = Parsed::default();
     let mut words = chunk
         .split(|&b| is_plain_space(b))
-        .filter(|w| !w.is_empty())
-        .map(|w| std::str::from_utf8(w).ok());
-    let id = |w: Option<&str>| w.and_then(parse_u64).and_then(|v| u32::try_from(v).ok());
-    let coordinate =
-        |w: Option<Option<&str>>| w.flatten().and_then(parse_f64).filter(|x| x.is_finite());
+        .filter(|w| !w.is_empty());
+    let coordinate = |w: Option<&[u8]>| w.and_then(parse_coordinate);
     match record {
         Record::Node => {
             while let Some(w) = words.next() {
-                out.ids.push(id(w)?);
+                out.ids.push(parse_id(w)?);
                 let x = coordinate(words.next())?;
                 let y = coordinate(words.next())?;
                 let z = coordinate(words.next())?;
@@ -151,7 +146,7 @@ fn parse_chunk(chunk: &[u8], record: Record) -> Option<Parsed> {
         Record::Ids(n) => {
             let mut count = 0usize;
             for w in words {
-                out.ids.push(id(w)?);
+                out.ids.push(parse_id(w)?);
                 count += 1;
             }
             if n == 0 || !count.is_multiple_of(n) {
@@ -162,9 +157,67 @@ fn parse_chunk(chunk: &[u8], record: Record) -> Option<Parsed> {
     Some(out)
 }
 
+/// An id word: what the cursor's `parse_u64` accepts (decimal digits only) and `u32` holds.
+fn parse_id(w: &[u8]) -> Option<u32> {
+    if w.is_empty() {
+        return None;
+    }
+    let mut v: u32 = 0;
+    for &b in w {
+        if !b.is_ascii_digit() {
+            return None;
+        }
+        v = v.checked_mul(10)?.checked_add(u32::from(b - b'0'))?;
+    }
+    Some(v)
+}
+
+/// A finite coordinate word. On a plain word (number characters only) the cursor's
+/// `parse_f64` recognises the same decimal grammar (sign, digits, point, exponent) and then
+/// converts with the standard library's correctly rounded `parse`, which is called here
+/// directly (tested against it).
+fn parse_coordinate(w: &[u8]) -> Option<f64> {
+    std::str::from_utf8(w)
+        .ok()?
+        .parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cursor::{parse_f64, parse_u64};
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The plain-word parsers are the cursor's on every word of number characters.
+        #[test]
+        fn word_parsers_are_the_cursors(w in "[0-9eE.+-]{1,12}") {
+            let cursor_id = parse_u64(&w).and_then(|v| u32::try_from(v).ok());
+            prop_assert_eq!(parse_id(w.as_bytes()), cursor_id);
+            let cursor_x = parse_f64(&w).filter(|x| x.is_finite());
+            prop_assert_eq!(parse_coordinate(w.as_bytes()).map(f64::to_bits), cursor_x.map(f64::to_bits));
+        }
+
+        #[test]
+        fn numeric_words_parse_like_the_cursor(
+            x in any::<f64>().prop_filter("finite", |x| x.is_finite()),
+            digits in 0usize..20,
+            id in any::<u64>(),
+        ) {
+            for w in [format!("{x}"), format!("{x:e}"), format!("{x:E}"), format!("{x:+.digits$e}"), format!("{x:.digits$}")] {
+                prop_assert_eq!(
+                    parse_coordinate(w.as_bytes()).map(f64::to_bits),
+                    parse_f64(&w).filter(|x| x.is_finite()).map(f64::to_bits),
+                    "{}", w
+                );
+            }
+            for w in [id.to_string(), (id % 5_000_000_000).to_string(), format!("00{}", id % 1000)] {
+                prop_assert_eq!(parse_id(w.as_bytes()), parse_u64(&w).and_then(|v| u32::try_from(v).ok()));
+            }
+        }
+    }
 
     #[test]
     fn the_plain_body_ends_at_its_end_word() {
