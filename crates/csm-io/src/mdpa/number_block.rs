@@ -27,24 +27,66 @@ fn is_plain_space(b: u8) -> bool {
 /// that closes it, if every byte before it is a number character (`0-9 + - . e E`) or plain
 /// whitespace. `None` otherwise (a comment, a name, another whitespace byte, no `End`).
 pub(crate) fn plain_body_end(data: &[u8], start: usize) -> Option<usize> {
-    let mut i = start;
-    while i < data.len() {
-        let b = data[i];
-        match b {
+    plain_body_end_with(data, start, SCAN_BYTES)
+}
+
+/// [`plain_body_end`], scanned in slices of `scan` bytes, a group of them (one per worker) in
+/// parallel, group after group, so that little is scanned beyond the block's end.
+fn plain_body_end_with(data: &[u8], start: usize, scan: usize) -> Option<usize> {
+    let scan = scan.max(1);
+    let workers = rayon::current_num_threads().max(1);
+    let mut group = start;
+    while group < data.len() {
+        let group_end = group
+            .saturating_add(workers.saturating_mul(scan))
+            .min(data.len());
+        let stops: Vec<Option<Stop>> = (group..group_end)
+            .step_by(scan)
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .map(|a| first_stop(data, start, (a, a.saturating_add(scan).min(group_end))))
+            .collect();
+        match stops.into_iter().flatten().next() {
+            Some(Stop::End(i)) => return Some(i),
+            Some(Stop::NotPlain) => return None,
+            None => group = group_end,
+        }
+    }
+    None
+}
+
+/// The bytes one worker scans in [`plain_body_end`].
+const SCAN_BYTES: usize = 1 << 20;
+
+/// Where the scan of a plain body stops.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Stop {
+    /// The closing `End` at this offset.
+    End(usize),
+    /// A byte a plain body cannot hold (or another word starting with `E`).
+    NotPlain,
+}
+
+/// The first stop in `data[a..b]` of the scan of a plain body starting at `start`.
+fn first_stop(data: &[u8], start: usize, (a, b): (usize, usize)) -> Option<Stop> {
+    for i in a..b {
+        match data[i] {
             b'0'..=b'9' | b'+' | b'-' | b'.' | b'e' => {}
-            _ if is_plain_space(b) => {}
+            c if is_plain_space(c) => {}
             b'E' => {
-                let word_start = i == start || is_plain_space(data[i - 1]);
-                if word_start {
+                if i == start || is_plain_space(data[i - 1]) {
                     let end = i + 3;
                     let ends_word = end == data.len()
                         || data.get(end).is_some_and(|&c| c.is_ascii_whitespace());
-                    return (data[i..].starts_with(b"End") && ends_word).then_some(i);
+                    return Some(if data[i..].starts_with(b"End") && ends_word {
+                        Stop::End(i)
+                    } else {
+                        Stop::NotPlain
+                    });
                 }
             }
-            _ => return None,
+            _ => return Some(Stop::NotPlain),
         }
-        i += 1;
     }
     None
 }
@@ -129,14 +171,14 @@ pub(crate) fn parse_window(
 /// The words of `chunk` as records of kind `record`, or `None`.
 fn parse_chunk(chunk: &[u8], record: Record) -> Option<Parsed> {
     let mut out = Parsed::default();
-    let mut words = chunk
-        .split(|&b| is_plain_space(b))
-        .filter(|w| !w.is_empty());
-    let coordinate = |w: Option<&[u8]>| w.and_then(parse_coordinate);
+    // A plain body is ASCII, so the chunk is text; its whitespace is ASCII whitespace without
+    // form feeds (see `plain_body_end`), which is what `split_ascii_whitespace` splits at.
+    let mut words = std::str::from_utf8(chunk).ok()?.split_ascii_whitespace();
+    let coordinate = |w: Option<&str>| w.and_then(parse_coordinate);
     match record {
         Record::Node => {
             while let Some(w) = words.next() {
-                out.ids.push(parse_id(w)?);
+                out.ids.push(parse_id(w.as_bytes())?);
                 let x = coordinate(words.next())?;
                 let y = coordinate(words.next())?;
                 let z = coordinate(words.next())?;
@@ -146,7 +188,7 @@ fn parse_chunk(chunk: &[u8], record: Record) -> Option<Parsed> {
         Record::Ids(n) => {
             let mut count = 0usize;
             for w in words {
-                out.ids.push(parse_id(w)?);
+                out.ids.push(parse_id(w.as_bytes())?);
                 count += 1;
             }
             if n == 0 || !count.is_multiple_of(n) {
@@ -176,12 +218,8 @@ fn parse_id(w: &[u8]) -> Option<u32> {
 /// `parse_f64` recognises the same decimal grammar (sign, digits, point, exponent) and then
 /// converts with the standard library's correctly rounded `parse`, which is called here
 /// directly (tested against it).
-fn parse_coordinate(w: &[u8]) -> Option<f64> {
-    std::str::from_utf8(w)
-        .ok()?
-        .parse::<f64>()
-        .ok()
-        .filter(|x| x.is_finite())
+fn parse_coordinate(w: &str) -> Option<f64> {
+    w.parse::<f64>().ok().filter(|x| x.is_finite())
 }
 
 #[cfg(test)]
@@ -197,7 +235,7 @@ mod tests {
             let cursor_id = parse_u64(&w).and_then(|v| u32::try_from(v).ok());
             prop_assert_eq!(parse_id(w.as_bytes()), cursor_id);
             let cursor_x = parse_f64(&w).filter(|x| x.is_finite());
-            prop_assert_eq!(parse_coordinate(w.as_bytes()).map(f64::to_bits), cursor_x.map(f64::to_bits));
+            prop_assert_eq!(parse_coordinate(&w).map(f64::to_bits), cursor_x.map(f64::to_bits));
         }
 
         #[test]
@@ -208,7 +246,7 @@ mod tests {
         ) {
             for w in [format!("{x}"), format!("{x:e}"), format!("{x:E}"), format!("{x:+.digits$e}"), format!("{x:.digits$}")] {
                 prop_assert_eq!(
-                    parse_coordinate(w.as_bytes()).map(f64::to_bits),
+                    parse_coordinate(&w).map(f64::to_bits),
                     parse_f64(&w).filter(|x| x.is_finite()).map(f64::to_bits),
                     "{}", w
                 );
@@ -228,6 +266,21 @@ mod tests {
         // An exponent `E` inside a number is not the end.
         assert_eq!(plain_body_end(b" 1 2E5 3 4\nEnd", 0), Some(11));
         // Comments, names, form feeds, a missing `End` or an `Ending` word: not plain.
+        // Any slicing of the scan gives the same answer.
+        for text in [
+            &b" 1 2E5 3 4\nEnd"[..],
+            b" 1 0 0 0\n 2 1 1 1\nEnd Nodes\n",
+            b" 1 0 0 0 // c\nEnd Nodes",
+            b" 1 0 0 0\nEnding",
+            b"E 1",
+        ] {
+            for scan in 1..8 {
+                assert_eq!(
+                    plain_body_end_with(text, 0, scan),
+                    plain_body_end_with(text, 0, usize::MAX)
+                );
+            }
+        }
         for text in [
             &b" 1 0 0 0 // c\nEnd Nodes"[..],
             b" 1 0 0 0 /* c */\nEnd Nodes",
