@@ -41,11 +41,14 @@ pub fn compute_nodal_h(model: &ModelPart, part: Option<PartIdx>, mode: NodalHMod
 
 /// Elements below which [`compute_nodal_h`] runs serially.
 const PARALLEL_MIN_ELEMENTS: usize = 1 << 14;
+/// The most per-worker arrays of the parallel minima (each holds every node's value).
+const MAX_PARTIAL_ARRAYS: usize = 4;
 
 /// [`compute_nodal_h`]; the minima of [`NodalHMode::Kratos`] and [`NodalHMode::MinimumEdge`]
 /// are taken over element chunks in parallel from `parallel_min` elements on (one array per
-/// worker, then the element-wise minimum: a minimum of the same distances in any grouping is
-/// the same value), [`NodalHMode::StaleRead`] in element order.
+/// chunk, at most [`MAX_PARTIAL_ARRAYS`] chunks, then the element-wise minimum: a minimum of
+/// the same distances in any grouping is the same value), [`NodalHMode::StaleRead`] in
+/// element order.
 fn compute_nodal_h_with(
     model: &ModelPart,
     part: Option<PartIdx>,
@@ -65,7 +68,8 @@ fn compute_nodal_h_with(
         }
         return h;
     }
-    let chunk = order.len().div_ceil(workers);
+    // At most `MAX_PARTIAL_ARRAYS` arrays of `n_nodes` values at once, whatever the pool.
+    let chunk = order.len().div_ceil(workers.min(MAX_PARTIAL_ARRAYS));
     let mut partial: Vec<Vec<Real>> = order
         .par_chunks(chunk)
         .map(|elements| {

@@ -31,13 +31,16 @@ impl Geometry<'_> {
     }
 
     /// The unit normal at the local coordinates of the centre (the node mean), Kratos'
-    /// `UnitNormal(PointLocalCoordinates(Center()))`: bit for bit
+    /// `UnitNormal(PointLocalCoordinates(Center()))`: where both succeed, bit for bit
     /// `unit_normal(&point_local_coordinates(&center())?)`. Affine faces (Line2D2,
     /// Triangle3D3) have one normal everywhere, so their centre's local coordinates are not
     /// computed (a non-finite centre is still refused).
     ///
     /// Errors: as [`unit_normal`](Self::unit_normal) and
-    /// [`point_local_coordinates`](Self::point_local_coordinates).
+    /// [`point_local_coordinates`](Self::point_local_coordinates). A degenerate affine face is
+    /// refused by the normal's own test ("zero-length normal") rather than by the local
+    /// coordinates' (a singular Jacobian); the two tests round differently, so a sliver at the
+    /// very edge of degeneracy may pass one and fail the other.
     pub fn centre_unit_normal(&self) -> Result<Vector, Error> {
         let centre = self.center();
         if matches!(

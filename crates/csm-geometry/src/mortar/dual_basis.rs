@@ -14,7 +14,7 @@
 //! gave the standard basis to the first kind and NODAL_AREA differences up to 1.7e-4.)
 
 use super::face::MortarFace;
-use super::face_matrix::{FaceMatrix, MAX_FACE_NODES, face_shape_values};
+use super::face_matrix::{FaceMatrix, MAX_MORTAR_FACE_NODES, face_shape_values};
 use super::integration_points::MortarIntegrationPoint;
 use crate::math::{EPS, Real};
 
@@ -27,10 +27,10 @@ pub struct DualBasis {
 
 impl DualBasis {
     /// The standard basis (`Ae = I`, `Φ = N_s`) for `n_nodes` slave nodes (at most
-    /// [`MAX_FACE_NODES`]; more are clamped).
+    /// [`MAX_MORTAR_FACE_NODES`]; more are clamped).
     pub fn identity(n_nodes: usize) -> DualBasis {
         DualBasis {
-            ae: FaceMatrix::identity(n_nodes.min(MAX_FACE_NODES)),
+            ae: FaceMatrix::identity(n_nodes.min(MAX_MORTAR_FACE_NODES)),
             is_dual: false,
         }
     }
@@ -48,8 +48,8 @@ impl DualBasis {
 
     /// `Φ = Ae · N` for shape-function values `n` (one per slave node), each component summed
     /// in index order from 0 (ublas `prod`); entries beyond the slave nodes are 0.
-    pub fn phi(&self, n: &[Real]) -> [Real; MAX_FACE_NODES] {
-        let mut out = [0.0; MAX_FACE_NODES];
+    pub fn phi(&self, n: &[Real]) -> [Real; MAX_MORTAR_FACE_NODES] {
+        let mut out = [0.0; MAX_MORTAR_FACE_NODES];
         for (i, o) in out.iter_mut().enumerate().take(self.ae.nrows()) {
             let row = self.ae.row(i);
             let mut t = 0.0;
@@ -62,8 +62,9 @@ impl DualBasis {
     }
 }
 
-/// The dual basis of one pair from its Gauss points ([`integration_points`](super::
-/// integration_points)): `De(i,i) += w·(detJ·N_i)`, `Me(i,j) += (w·detJ)·(N_i·N_j)`; with
+/// The dual basis of one pair from its Gauss points
+/// ([`integration_points`](super::integration_points)): `De(i,i) += w·(detJ·N_i)`,
+/// `Me(i,j) += (w·detJ)·(N_i·N_j)`; with
 /// `f = ‖Me‖_F ≥ ε`, `inv = (Me/f)⁻¹` (closed form) and, unless the condition number
 /// `‖Me/f‖_F·‖inv‖_F` exceeds `1e-4/ε`, `Ae = (1/f) · De · inv` (so that `∫ Φ_i N_j = δ_ij
 /// ∫ N_j` over the pair's cells); otherwise the identity (flag false). No Gauss points (all cells

@@ -85,10 +85,10 @@ impl<'a> MortarFace<'a> {
     /// A face whose nodes all use the condition normal `normal`.
     ///
     /// Errors: [`ErrorKind::Unsupported`] for a geometry of more than
-    /// [`MAX_FACE_NODES`](super::MAX_FACE_NODES) nodes (the mortar routines integrate linear
+    /// [`MAX_MORTAR_FACE_NODES`](super::MAX_MORTAR_FACE_NODES) nodes (the mortar routines integrate linear
     /// faces only); [`ErrorKind::NonFinite`] for a non-finite normal.
     pub fn new(geometry: Geometry<'a>, normal: Vector) -> Result<MortarFace<'a>, Error> {
-        if geometry.kind().n_nodes() > super::MAX_FACE_NODES {
+        if geometry.kind().n_nodes() > super::MAX_MORTAR_FACE_NODES {
             return Err(Error::new(ErrorKind::Unsupported(
                 "mortar faces of more than four nodes",
             )));

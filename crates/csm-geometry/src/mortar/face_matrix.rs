@@ -7,14 +7,14 @@ use crate::GeometryKind;
 use crate::math::{Point, Real};
 
 /// The most nodes of a mortar face (`Quadrilateral3D4`).
-pub const MAX_FACE_NODES: usize = 4;
+pub const MAX_MORTAR_FACE_NODES: usize = 4;
 
-/// A dense `rows × cols` matrix of at most [`MAX_FACE_NODES`] rows and columns, stored inline:
+/// A dense `rows × cols` matrix of at most [`MAX_MORTAR_FACE_NODES`] rows and columns, stored inline:
 /// the dual basis `Ae` and the mortar operators `D`, `M` of one pair. Indexed by
 /// `(row, column)`; an index beyond `rows × cols` panics, as a slice index does.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FaceMatrix {
-    entries: [[Real; MAX_FACE_NODES]; MAX_FACE_NODES],
+    entries: [[Real; MAX_MORTAR_FACE_NODES]; MAX_MORTAR_FACE_NODES],
     rows: usize,
     cols: usize,
 }
@@ -23,11 +23,11 @@ impl FaceMatrix {
     /// The zero matrix. The sizes are the node counts of mortar faces
     /// ([`MortarFace`](super::MortarFace) admits no other); larger ones are clamped.
     pub(crate) fn zeros(rows: usize, cols: usize) -> FaceMatrix {
-        debug_assert!(rows <= MAX_FACE_NODES && cols <= MAX_FACE_NODES);
+        debug_assert!(rows <= MAX_MORTAR_FACE_NODES && cols <= MAX_MORTAR_FACE_NODES);
         FaceMatrix {
-            entries: [[0.0; MAX_FACE_NODES]; MAX_FACE_NODES],
-            rows: rows.min(MAX_FACE_NODES),
-            cols: cols.min(MAX_FACE_NODES),
+            entries: [[0.0; MAX_MORTAR_FACE_NODES]; MAX_MORTAR_FACE_NODES],
+            rows: rows.min(MAX_MORTAR_FACE_NODES),
+            cols: cols.min(MAX_MORTAR_FACE_NODES),
         }
     }
 
@@ -91,7 +91,10 @@ impl IndexMut<(usize, usize)> for FaceMatrix {
 /// are 0): bit for bit [`Geometry::shape_functions`](crate::Geometry::shape_functions), without
 /// its 27-value container and the derivatives (tested).
 #[inline]
-pub(crate) fn face_shape_values(kind: GeometryKind, local: &Point) -> [Real; MAX_FACE_NODES] {
+pub(crate) fn face_shape_values(
+    kind: GeometryKind,
+    local: &Point,
+) -> [Real; MAX_MORTAR_FACE_NODES] {
     let (x, y) = (local.x, local.y);
     match kind {
         GeometryKind::Line2D2 => [0.5 * (1.0 - x), 0.5 * (1.0 + x), 0.0, 0.0],
@@ -103,7 +106,7 @@ pub(crate) fn face_shape_values(kind: GeometryKind, local: &Point) -> [Real; MAX
             (0.5 * (1.0 - x)) * (0.5 * (1.0 + y)),
         ],
         other => {
-            let mut out = [0.0; MAX_FACE_NODES];
+            let mut out = [0.0; MAX_MORTAR_FACE_NODES];
             let n = crate::shape_functions(other, local);
             for (o, v) in out.iter_mut().zip(n.iter()) {
                 *o = *v;

@@ -31,7 +31,7 @@ pub use face::{
     CLIPPING_TOLERANCE, DUPLICATE_POINT_TOLERANCE, MortarFace, MortarMode,
     NEWTON_2D_MAX_ITERATIONS, NEWTON_2D_TOLERANCE, ROBUST_AREA_FACTOR, SegmentationSettings,
 };
-pub use face_matrix::{FaceMatrix, MAX_FACE_NODES};
+pub use face_matrix::{FaceMatrix, MAX_MORTAR_FACE_NODES};
 pub use integration_points::{
     EXPLICIT_LENGTH_FACTOR, MAPPER_LENGTH_FACTOR, MortarIntegrationPoint, OperatorSettings,
     integration_points, integration_points_with_normals,

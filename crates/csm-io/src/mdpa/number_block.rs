@@ -5,9 +5,10 @@
 //! split over lines, odd whitespace); most files have none of that inside their big blocks.
 //! When the body of such a block holds nothing but number characters, spaces, tabs and line
 //! ends up to its `End`, it is cut at line ends into windows of a few MiB, each window into one
-//! chunk per worker, and the chunks are tokenised and parsed in parallel with the cursor's own
-//! number parsers ([`parse_u64`], [`parse_f64`]); the records are then used in file order, so
-//! the model is the one the cursor would build. A chunk whose words do not make whole records
+//! chunk per worker, and the chunks are tokenised and parsed in parallel (ids digit by digit,
+//! coordinates with the standard library's `parse` that the cursor's nom parser ends in: the
+//! same values on every word of number characters, tested); the records are then used in file
+//! order, so the model is the one the cursor would build. A chunk whose words do not make whole records
 //! of the expected kinds makes the caller go on with the cursor from the start of its window
 //! (nothing of that window has been used yet), so every error — a bad word, a record split
 //! over a chunk boundary, a missing `End` — is the cursor's own.

@@ -29,13 +29,17 @@ use crate::mdpa::number_block::{self, Parsed, Record};
 /// (rayon's pool) when they hold plain numbers only; the model and every error are those of
 /// the word-by-word reading.
 pub fn read_mdpa(text: &str, file_name: &str) -> Result<ModelPart, Error> {
-    read_mdpa_bytes(text.as_bytes(), file_name)
+    read_mdpa_with(text.as_bytes(), file_name, Some(Parallel::default()))
 }
 
-/// [`read_mdpa`] of the file's bytes: words that are not UTF-8 are errors where they are
-/// read (comments may hold anything).
+/// [`read_mdpa`] of a file's bytes, as `read_mdpa(&String::from_utf8_lossy(bytes))`: UTF-8
+/// text (every ASCII file) is read in place, anything else after the lossy conversion (each
+/// invalid byte sequence becomes U+FFFD, so a Latin-1 comment or name still reads).
 pub(crate) fn read_mdpa_bytes(bytes: &[u8], file_name: &str) -> Result<ModelPart, Error> {
-    read_mdpa_with(bytes, file_name, Some(Parallel::default()))
+    match std::str::from_utf8(bytes) {
+        Ok(text) => read_mdpa(text, file_name),
+        Err(_) => read_mdpa(&String::from_utf8_lossy(bytes), file_name),
+    }
 }
 
 /// The sizes of the parallel block parsing.

@@ -58,6 +58,16 @@ fn reads_every_block() {
     assert_eq!(slave.conditions().len(), 1);
 }
 
+/// A file that is not UTF-8 (a Latin-1 comment and name) reads as its lossy conversion.
+#[test]
+fn latin_1_bytes_read_as_replacement_characters() {
+    let mut bytes = b"// Dichte \xe4\nBegin Nodes\n1 0 0 0 // \xe9\nEnd Nodes\n".to_vec();
+    bytes.extend_from_slice(b"Begin SubModelPart Pl\xe4te\nEnd SubModelPart\n");
+    let mp = super::read_mdpa_bytes(&bytes, "m.mdpa").unwrap();
+    assert_eq!(mp.nodes().len(), 1);
+    assert_eq!(mp.part_paths(), ["Pl\u{fffd}te"]);
+}
+
 #[test]
 fn domain_size_2_for_2d_names() {
     let text = "Begin Nodes\n1 0 0 0\n2 1 0 0\n3 0 1 0\nEnd Nodes\n\
