@@ -139,18 +139,23 @@ pub(crate) fn face_data_with(
     c: ConditionIdx,
     normals: Option<&[Vector]>,
 ) -> FaceData {
-    let nodes = model.conditions().nodes(c.index());
     let mut points = Vec::new();
-    model.gather_points(nodes, &mut points);
-    let nodal_normals = nodes
-        .iter()
-        .map(|n| normals.map_or(Vector::zeros(), |col| col[n.index()]))
-        .collect();
+    model.gather_points(model.conditions().nodes(c.index()), &mut points);
     FaceData {
         points,
         normal: model.condition_normals()[c.index()],
-        nodal_normals,
+        nodal_normals: nodal_normals(model, c, normals),
     }
+}
+
+/// The nodal normals of condition `c` taken from `normals` (by node index; zero without).
+fn nodal_normals(model: &ModelPart, c: ConditionIdx, normals: Option<&[Vector]>) -> Vec<Vector> {
+    model
+        .conditions()
+        .nodes(c.index())
+        .iter()
+        .map(|n| normals.map_or(Vector::zeros(), |col| col[n.index()]))
+        .collect()
 }
 
 pub(crate) fn make_face<'a>(
@@ -322,7 +327,7 @@ fn slave_gap_data(
     let data = FaceData {
         points: sdata.points.clone(),
         normal: sdata.normal,
-        nodal_normals: face_data_with(model, sc, Some(unit_normals)).nodal_normals,
+        nodal_normals: nodal_normals(model, sc, Some(unit_normals)),
     };
     let area = slave_area(model, sc, &data);
     (data, area)

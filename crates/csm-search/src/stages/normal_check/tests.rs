@@ -16,21 +16,33 @@ const CUBE: [(f64, f64, f64); 8] = [
 ];
 
 fn cube(conn: [u32; 8]) -> ModelPart {
-    let mut m = ModelPart::new("Main");
-    for (i, (x, y, z)) in CUBE.iter().enumerate() {
-        m.add_node(NodeId(i as u32 + 1), Point::new(*x, *y, *z))
-            .unwrap();
-        m.nodes_mut().flags_mut()[i].set(Flag::INTERFACE, true);
-    }
-    let ids: Vec<NodeId> = conn.iter().map(|&n| NodeId(n)).collect();
-    m.add_element(
-        ElementId(1),
+    let points: Vec<Point> = CUBE.iter().map(|&(x, y, z)| Point::new(x, y, z)).collect();
+    one_solid(
         GeometryKind::Hexahedra3D8,
         "Element3D8N",
-        &ids,
-        PropertiesId(1),
+        &points,
+        &conn,
+        true,
     )
-    .unwrap();
+}
+
+/// A model of the nodes `points` (ids from 1, INTERFACE as given) and one element of `kind`
+/// on the node ids `conn`.
+fn one_solid(
+    kind: GeometryKind,
+    name: &str,
+    points: &[Point],
+    conn: &[u32],
+    interface: bool,
+) -> ModelPart {
+    let mut m = ModelPart::new("Main");
+    for (i, p) in points.iter().enumerate() {
+        m.add_node(NodeId(i as u32 + 1), *p).unwrap();
+        m.nodes_mut().flags_mut()[i].set(Flag::INTERFACE, interface);
+    }
+    let ids: Vec<NodeId> = conn.iter().map(|&n| NodeId(n)).collect();
+    m.add_element(ElementId(1), kind, name, &ids, PropertiesId(1))
+        .unwrap();
     m
 }
 
@@ -242,32 +254,6 @@ fn solid_elements_are_counted() {
 /// check without INTERFACE nodes and fails it with one.
 #[test]
 fn pass_2_measures_only_elements_with_interface_nodes() {
-    let prism = |interface: bool| {
-        let mut m = ModelPart::new("Main");
-        let points = [
-            (0.0, 0.0, 0.0),
-            (1.0, 0.0, 0.0),
-            (0.0, 1.0, 0.0),
-            (0.3, 0.3, 0.0),
-            (1.0, 0.0, 1.0),
-            (0.0, 1.0, 1.0),
-        ];
-        for (i, (x, y, z)) in points.iter().enumerate() {
-            m.add_node(NodeId(i as u32 + 1), Point::new(*x, *y, *z))
-                .unwrap();
-            m.nodes_mut().flags_mut()[i].set(Flag::INTERFACE, interface);
-        }
-        let ids: Vec<NodeId> = (1..=6).map(NodeId).collect();
-        m.add_element(
-            ElementId(1),
-            GeometryKind::Prism3D6,
-            "",
-            &ids,
-            PropertiesId(1),
-        )
-        .unwrap();
-        m
-    };
     let g = [
         Point::new(0.0, 0.0, 0.0),
         Point::new(1.0, 0.0, 0.0),
@@ -276,6 +262,15 @@ fn pass_2_measures_only_elements_with_interface_nodes() {
         Point::new(1.0, 0.0, 1.0),
         Point::new(0.0, 1.0, 1.0),
     ];
+    let prism = |interface| {
+        one_solid(
+            GeometryKind::Prism3D6,
+            "",
+            &g,
+            &[1, 2, 3, 4, 5, 6],
+            interface,
+        )
+    };
     assert!(
         Geometry::new(GeometryKind::Prism3D6, &g)
             .unwrap()
