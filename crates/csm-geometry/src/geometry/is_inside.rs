@@ -103,6 +103,48 @@ impl Geometry<'_> {
     /// conclusion) for every other kind and for a zero or non-finite direction, point or
     /// tolerance. A cheap exact pre-test for the normal check's probes.
     pub fn separated_along(&self, p: &Point, direction: &Vector, tolerance: Real) -> bool {
+        let Some(range) = self.range_along(direction, tolerance) else {
+            return false;
+        };
+        let probe = range.along(p);
+        // NaN anywhere makes the comparison false.
+        probe > range.hi + range.margin(probe.abs())
+    }
+
+    /// Whether [`separated_along`](Self::separated_along)`(base + s·u, direction, tolerance)`
+    /// holds, in exact arithmetic and with an allowance for its rounding, for **every**
+    /// offset `s ≥ min_offset` and unit vector `u` with `direction · u ≥ cos_floor`
+    /// (`direction` a unit vector): the normal check's probes whose offset and direction are
+    /// known only by bounds ([`Geometry::centre_probe_bound`]). Along `direction` such a probe
+    /// lies at least `direction · base + s · cos_floor` and at most `|direction · base| + s`
+    /// from the origin, and the margin grows by `1e-12` per unit of `s` while the probe gains
+    /// `cos_floor`, so the smallest offset decides. False (no conclusion) for a `min_offset`
+    /// or `cos_floor` that is not positive, and wherever `separated_along` gives false.
+    pub fn separated_beyond(
+        &self,
+        base: &Point,
+        direction: &Vector,
+        min_offset: Real,
+        cos_floor: Real,
+        tolerance: Real,
+    ) -> bool {
+        if !(min_offset > 0.0 && cos_floor > 0.0 && cos_floor <= 1.0) {
+            return false;
+        }
+        let Some(range) = self.range_along(direction, tolerance) else {
+            return false;
+        };
+        let start = range.along(base);
+        let farthest = start.abs() + min_offset;
+        // The margin at the farthest the probe can be, plus as much again for the rounding
+        // of this evaluation.
+        let slack = 1e-12 * (range.magnitude + farthest);
+        start + min_offset * cos_floor > range.hi + range.margin(farthest) + slack
+    }
+
+    /// The nodes' extent along `direction` for [`separated_along`](Self::separated_along):
+    /// `None` for a kind it does not decide or a tolerance that is negative or not finite.
+    fn range_along(&self, direction: &Vector, tolerance: Real) -> Option<RangeAlong> {
         use GeometryKind as K;
         if !matches!(
             self.kind(),
@@ -110,23 +152,27 @@ impl Geometry<'_> {
         ) || !tolerance.is_finite()
             || tolerance < 0.0
         {
-            return false;
+            return None;
         }
-        let along = |x: &Point| direction.x * x.x + direction.y * x.y + direction.z * x.z;
-        let (mut lo, mut hi, mut magnitude) = (Real::INFINITY, Real::NEG_INFINITY, 0.0);
+        let mut range = RangeAlong {
+            direction: *direction,
+            lo: Real::INFINITY,
+            hi: Real::NEG_INFINITY,
+            magnitude: 0.0,
+            fixed_margin: 0.0,
+        };
         for x in self.points() {
-            let a = along(x);
-            lo = lo.min(a);
-            hi = hi.max(a);
-            magnitude = Real::max(magnitude, a.abs());
+            let a = range.along(x);
+            range.lo = range.lo.min(a);
+            range.hi = range.hi.max(a);
+            range.magnitude = Real::max(range.magnitude, a.abs());
         }
-        let probe = along(p);
         let d = direction.norm();
-        let margin = (3.0 * tolerance + 4.0 * tolerance * tolerance) * (hi - lo)
-            + 1e-6 * d * self.scale()
-            + 1e-12 * Real::max(magnitude, probe.abs());
-        // NaN anywhere makes the comparison false.
-        d > 0.0 && margin.is_finite() && probe > hi + margin
+        range.fixed_margin = (3.0 * tolerance + 4.0 * tolerance * tolerance)
+            * (range.hi - range.lo)
+            + 1e-6 * d * self.scale();
+        // A zero or non-finite direction, or non-finite points: no conclusion.
+        (d > 0.0 && range.fixed_margin.is_finite() && range.magnitude.is_finite()).then_some(range)
     }
 
     /// The error the local-coordinates iteration of a solid or face raises in its first step,
@@ -137,5 +183,29 @@ impl Geometry<'_> {
         self.least_squares_step_matrices(&self.reference_center())
             .1
             .map(|_| ())
+    }
+}
+
+/// The nodes of a linear solid seen along a direction ([`Geometry::separated_along`]).
+struct RangeAlong {
+    direction: Vector,
+    lo: Real,
+    hi: Real,
+    /// The largest `|direction · x|` over the nodes.
+    magnitude: Real,
+    /// The margin's part that does not depend on the probe.
+    fixed_margin: Real,
+}
+
+impl RangeAlong {
+    fn along(&self, x: &Point) -> Real {
+        self.direction.x * x.x + self.direction.y * x.y + self.direction.z * x.z
+    }
+
+    /// How far beyond `hi` a probe at `|direction · p| = probe` must lie: the enlarged
+    /// reference element's reach `(3t + 4t²) · range`, the convergence tolerance of the local
+    /// coordinates, and rounding far from the origin.
+    fn margin(&self, probe: Real) -> Real {
+        self.fixed_margin + 1e-12 * Real::max(self.magnitude, probe)
     }
 }

@@ -7,6 +7,7 @@ mod geometry;
 mod is_inside;
 mod local_coordinates;
 mod measure;
+mod probe_bound;
 mod quadrature;
 mod unit_normal;
 pub use unit_normal::{FaceUnitNormals, MAX_FACE_NODES};
@@ -19,3 +20,4 @@ pub use local_coordinates::{
     LOCAL_COORDINATES_MAX_ITERATIONS, LOCAL_COORDINATES_TOLERANCE, LocalCoordinatesSolver,
 };
 pub use measure::TETRAHEDRON_LENGTH_FACTOR;
+pub use probe_bound::CentreProbeBound;

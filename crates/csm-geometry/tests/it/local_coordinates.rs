@@ -269,3 +269,199 @@ fn separated_along_implies_outside() {
     let g = Geometry::new(K::Triangle3D3, &tri).unwrap();
     assert!(!g.separated_along(&Point::new(0.0, 0.0, 5.0), &Vector::z(), tol));
 }
+
+/// A face of `kind` (Triangle3D3 or Quadrilateral3D4) for the probe bounds: distorted and
+/// warped, often stretched into a sliver, sometimes far from the origin.
+fn probe_face(kind: GeometryKind, rng: &mut Rng) -> Vec<Point> {
+    let mut pts = embedded(kind, rng);
+    let squash = [1.0, 1.0, 0.3, 1e-2, 1e-4, 1e-7][(rng.unit() * 6.0) as usize % 6];
+    let axis = rng.unit_vector();
+    let far = [0.0, 0.0, 1e3, 1e7, 1e12][(rng.unit() * 5.0) as usize % 5];
+    let shift = rng.unit_vector() * far;
+    for p in &mut pts {
+        let a = p.coords.dot(&axis);
+        *p -= axis * (a * (1.0 - squash));
+        *p += shift;
+    }
+    pts
+}
+
+/// `centre_probe_bound` bounds what it claims: wherever it answers, the exact centre unit
+/// normal and length succeed, the normal is within `cos_floor` of `direction` and the length
+/// at least `length_floor` — on distorted, warped, sliver and far-away faces. On well-shaped
+/// faces near the origin it answers, tightly; on degenerate ones it does not.
+#[test]
+fn centre_probe_bound_bounds_the_exact_normal_and_length() {
+    use GeometryKind as K;
+    let mut rng = Rng::new(0xB0D);
+    for kind in [K::Triangle3D3, K::Quadrilateral3D4] {
+        let (mut answered, mut tried) = (0, 0);
+        for _ in 0..4000 {
+            let pts = probe_face(kind, &mut rng);
+            let face = Geometry::new(kind, &pts).unwrap();
+            tried += 1;
+            let Some(b) = face.centre_probe_bound() else {
+                continue;
+            };
+            answered += 1;
+            let n = face.centre_unit_normal().unwrap();
+            let length = face.length().unwrap();
+            assert!((b.direction.norm() - 1.0).abs() < 1e-12);
+            assert!(b.direction.dot(&n) >= b.cos_floor, "{kind:?} {pts:?}");
+            assert!(length >= b.length_floor, "{kind:?} {pts:?}");
+            assert!(b.cos_floor > 0.5 && b.length_floor > 0.0);
+        }
+        assert!(answered * 3 >= tried, "{kind:?}: {answered} of {tried}");
+        // Well shaped near the origin: answered, and tight.
+        let square = [
+            Point::new(0.0, 0.0, 0.0),
+            Point::new(2.0, 0.0, 0.0),
+            Point::new(2.0, 2.0, 0.0),
+            Point::new(0.0, 2.0, 0.0),
+        ];
+        let n = kind.n_nodes();
+        let face = Geometry::new(kind, &square[..n]).unwrap();
+        let b = face.centre_probe_bound().unwrap();
+        assert!(b.cos_floor > 1.0 - 1e-9);
+        assert!(b.length_floor > 0.999 * face.length().unwrap());
+        assert!((b.direction - Vector::z()).norm() < 1e-15);
+        // Degenerate: coincident nodes, a needle, non-finite points.
+        let mut flat = square;
+        flat[2] = flat[1];
+        if kind == K::Triangle3D3 {
+            flat[2] = Point::new(1.0, 1e-9, 0.0);
+        } else {
+            flat[3] = flat[0];
+        }
+        assert!(
+            Geometry::new(kind, &flat[..n])
+                .unwrap()
+                .centre_probe_bound()
+                .is_none()
+        );
+        let mut bad = square;
+        bad[0].x = f64::NAN;
+        // (`Geometry::new` refuses it already.)
+        assert!(Geometry::new(kind, &bad[..n]).map_or(true, |g| g.centre_probe_bound().is_none()));
+    }
+    // Other kinds: no conclusion.
+    let line = [Point::new(0.0, 0.0, 0.0), Point::new(1.0, 0.0, 0.0)];
+    assert!(
+        Geometry::new(K::Line2D2, &line)
+            .unwrap()
+            .centre_probe_bound()
+            .is_none()
+    );
+}
+
+/// `separated_beyond` claims only what `separated_along` confirms: every probe
+/// `base + s·u` with `s ≥ min_offset` and `u · direction ≥ cos_floor` is separated (so
+/// outside), and its claims stop short of probes that are not.
+#[test]
+fn separated_beyond_implies_separated_along_every_probe() {
+    use GeometryKind as K;
+    let mut rng = Rng::new(0xBE70);
+    let tol = 5e-7;
+    for kind in [K::Tetrahedra3D4, K::Prism3D6, K::Hexahedra3D8] {
+        let (mut claims, mut refusals) = (0, 0);
+        for _ in 0..200 {
+            let pts = embedded(kind, &mut rng);
+            let g = Geometry::new(kind, &pts).unwrap();
+            let base = g.global_coordinates(&interior_local(kind, &mut rng));
+            let direction = rng.unit_vector();
+            let min_offset = rng.range(0.01, 3.0);
+            let cos_floor = rng.range(0.3, 1.0);
+            if !g.separated_beyond(&base, &direction, min_offset, cos_floor, tol) {
+                refusals += 1;
+                continue;
+            }
+            claims += 1;
+            for _ in 0..30 {
+                let s = min_offset * rng.range(1.0, 10.0);
+                // A unit vector at cosine c ≥ cos_floor from `direction`.
+                let c = rng.range(cos_floor, 1.0);
+                let side = rng.unit_vector();
+                let perp = side - direction * side.dot(&direction);
+                let u = if perp.norm() > 1e-6 {
+                    direction * c + perp.normalize() * (1.0 - c * c).sqrt()
+                } else {
+                    direction
+                };
+                let probe = base + u * s;
+                assert!(g.separated_along(&probe, &direction, tol), "{kind:?}");
+                // Outside; far probes may meet the iteration error `separated_along`
+                // describes on the way (a distorted element), never an inside answer.
+                assert!(!matches!(g.is_inside(&probe, tol), Ok(Some(_))), "{kind:?}");
+            }
+            // At the bound exactly, straight along `direction`: separated too.
+            let probe = base + direction * min_offset;
+            assert!(g.separated_along(&probe, &direction, tol), "{kind:?}");
+        }
+        assert!(
+            claims > 20 && refusals > 20,
+            "{kind:?}: {claims} claims, {refusals} refusals"
+        );
+        // No conclusion without a positive offset or cosine.
+        let pts = embedded(kind, &mut rng);
+        let g = Geometry::new(kind, &pts).unwrap();
+        let far = Point::new(100.0, 0.0, 0.0);
+        assert!(g.separated_beyond(&far, &Vector::x(), 1.0, 1.0, tol));
+        assert!(!g.separated_beyond(&far, &Vector::x(), 0.0, 1.0, tol));
+        assert!(!g.separated_beyond(&far, &Vector::x(), 1.0, 0.0, tol));
+        assert!(!g.separated_beyond(&far, &Vector::x(), f64::NAN, 1.0, tol));
+    }
+}
+
+/// The normal check's face probes decided by the bounds agree with the exact probes: a
+/// face whose bounded probe is separated has its exact probe outside the element; on
+/// properly oriented elements almost every face is decided that way, and on inverted ones
+/// (the probe pointing inside) none is.
+#[test]
+fn bounded_face_probes_agree_with_the_exact_probes() {
+    use GeometryKind as K;
+    let mut rng = Rng::new(0xFACE);
+    let tol = 5e-7;
+    let lp = 0.1;
+    for kind in [K::Tetrahedra3D4, K::Prism3D6, K::Hexahedra3D8] {
+        let (mut faces, mut decided, mut decided_inverted) = (0, 0, 0);
+        for k in 0..300 {
+            let mut pts = embedded(kind, &mut rng);
+            let inverted = k % 2 == 1;
+            if inverted {
+                // A mirror image: the same element with its faces turned inside.
+                for p in &mut pts {
+                    p.x = -p.x;
+                }
+            }
+            let g = Geometry::new(kind, &pts).unwrap();
+            for (face_kind, local) in kind.faces() {
+                let face_points: Vec<Point> = local.iter().map(|&l| pts[l]).collect();
+                let face = Geometry::new(*face_kind, &face_points).unwrap();
+                let centre = face.center();
+                let n = face.centre_unit_normal().unwrap();
+                let probe = centre + n * (lp * face.length().unwrap());
+                let exact_inside = g.is_inside(&probe, tol).unwrap().is_some();
+                assert_eq!(exact_inside, inverted, "{kind:?}");
+                faces += 1;
+                let Some(b) = face.centre_probe_bound() else {
+                    continue;
+                };
+                if g.separated_beyond(&centre, &b.direction, lp * b.length_floor, b.cos_floor, tol)
+                {
+                    assert!(!exact_inside, "{kind:?}: decided outside, but inside");
+                    if inverted {
+                        decided_inverted += 1;
+                    } else {
+                        decided += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(decided_inverted, 0, "{kind:?}");
+        assert!(
+            decided * 2 * 10 >= faces * 9,
+            "{kind:?}: {decided} of {} faces",
+            faces / 2
+        );
+    }
+}

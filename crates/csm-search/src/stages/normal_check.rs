@@ -20,7 +20,11 @@
 //! The inside tests of linear solids first try [`Geometry::separated_along`] (the probe beyond
 //! every node along the face normal or the nodal normal): a properly oriented element is
 //! answered without the local-coordinates iteration, with the same answer; the iteration's
-//! first-step error (a singular Jacobian) is still raised.
+//! first-step error (a singular Jacobian) is still raised. Before that, a face probe of a
+//! well-shaped triangle or quadrilateral face is decided from bounds on the face's normal and
+//! length alone ([`Geometry::centre_probe_bound`], [`Geometry::separated_beyond`]): where the
+//! bounded probe is separated, the exact probe is too, so neither the face's local
+//! coordinates nor its Gauss-point area are computed.
 //!
 //! Kratos inverts by reversing the node list (`std::reverse`). That flips lines, triangles and
 //! quadrilaterals, but it is an orientation-preserving renumbering of tetrahedra (Q41),
@@ -244,8 +248,13 @@ fn inward_faces(
     for (face_kind, local) in kind.faces() {
         face_points.clear();
         face_points.extend(local.iter().map(|&l| points[l]));
-        let (probe, normal) =
-            face_probe(*face_kind, face_points, lp).map_err(|err| element_error(model, e, err))?;
+        let face =
+            Geometry::new(*face_kind, face_points).map_err(|err| element_error(model, e, err))?;
+        if probe_certainly_outside(&element, &face, lp, tol) {
+            first_outside(model, e, &element, &mut checked)?;
+            continue;
+        }
+        let (probe, normal) = face_probe(&face, lp).map_err(|err| element_error(model, e, err))?;
         if probe_inside(model, e, &element, (&probe, &normal), tol, &mut checked)? {
             inverted.extend_from_slice(local);
         }
@@ -299,16 +308,32 @@ fn inward_nodes(
 
 /// `face.Center() + lp · face.Length() · face.UnitNormal(ξ(centre))`, in Kratos' order, and
 /// that unit normal.
-fn face_probe(
-    kind: GeometryKind,
-    points: &[Point],
-    lp: f64,
-) -> Result<(Point, Vector), csm_geometry::Error> {
-    let face = Geometry::new(kind, points)?;
+fn face_probe(face: &Geometry<'_>, lp: f64) -> Result<(Point, Vector), csm_geometry::Error> {
     let centre = face.center();
     let normal = face.centre_unit_normal()?;
     let length = face.length()?;
     Ok((centre + normal * (lp * length), normal))
+}
+
+/// Whether the face probe of `face` ([`face_probe`]) is certainly outside `element`, known
+/// from bounds on the face's normal and length alone ([`Geometry::centre_probe_bound`],
+/// [`Geometry::separated_beyond`]): where this is true, [`face_probe`] succeeds and
+/// [`probe_inside`] answers false (apart from the iteration error `separated_along`'s docs
+/// describe, which only a badly distorted element reaches), so neither is computed. The
+/// bounds need a positive `lp`.
+fn probe_certainly_outside(element: &Geometry<'_>, face: &Geometry<'_>, lp: f64, tol: f64) -> bool {
+    if lp.is_nan() || lp <= 0.0 {
+        return false;
+    }
+    face.centre_probe_bound().is_some_and(|b| {
+        element.separated_beyond(
+            &face.center(),
+            &b.direction,
+            lp * b.length_floor,
+            b.cos_floor,
+            tol,
+        )
+    })
 }
 
 /// Whether `probe` is inside element `e` (`element`), the probe lying off a face or node
@@ -323,15 +348,31 @@ fn probe_inside(
     tol: f64,
     checked: &mut bool,
 ) -> Result<bool, Error> {
-    let error = |err| element_error(model, e, err);
     if element.separated_along(probe, direction, tol) {
-        if !*checked {
-            element.check_local_coordinates().map_err(error)?;
-            *checked = true;
-        }
+        first_outside(model, e, element, checked)?;
         return Ok(false);
     }
-    Ok(element.is_inside(probe, tol).map_err(error)?.is_some())
+    Ok(element
+        .is_inside(probe, tol)
+        .map_err(|err| element_error(model, e, err))?
+        .is_some())
+}
+
+/// An "outside" answer of element `e` found without the inside test's iteration: the first
+/// one (`checked`) raises the error of the iteration's first step, as the iteration would.
+fn first_outside(
+    model: &ModelPart,
+    e: usize,
+    element: &Geometry<'_>,
+    checked: &mut bool,
+) -> Result<(), Error> {
+    if !*checked {
+        element
+            .check_local_coordinates()
+            .map_err(|err| element_error(model, e, err))?;
+        *checked = true;
+    }
+    Ok(())
 }
 
 /// The renumbering that inverts a geometry of `kind` in robust mode: new node `i` is old node
