@@ -3,7 +3,7 @@
 use csm_geometry::math::{EPS, Point, Real, Vector, norm_kratos};
 use csm_geometry::{
     DualBasis, MortarFace, MortarIntegrationPoint, MortarMode, MortarOperators, OperatorSettings,
-    Segmentation, SegmentationSettings, dual_basis, exact_segmentation, integration_points,
+    Segmentation, SegmentationSettings, SlaveSegmentation, dual_basis, integration_points,
     mortar_operators,
 };
 use csm_geometry::{Geometry, MAX_FACE_NODES};
@@ -238,6 +238,7 @@ fn map_slave(
     }
     let sdata = face_data(model, sc);
     let slave = make_face(model, sc, &sdata)?;
+    let segmentation = SlaveSegmentation::new(&slave, seg_settings);
     let slave_id = model.conditions().ids()[sc.index()];
     // With the weighted gap: the slave's face data with its nodal normals, and its area.
     let mut slave_for_gap: Option<(FaceData, Result<Real, Error>)> = None;
@@ -251,7 +252,8 @@ fn map_slave(
         };
         let mdata = face_data(model, mc);
         let master = make_face(model, mc, &mdata)?;
-        let seg = exact_segmentation(&slave, &master, seg_settings)
+        let seg = segmentation
+            .segment(&master)
             .map_err(|e| Error::condition("mortar segmentation", slave_id, &e))?;
         let Some(seg) = seg.filter(|g| !g.cells().is_empty()) else {
             out.removed.push(RemovedEntry {

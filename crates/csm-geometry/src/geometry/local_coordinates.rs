@@ -195,6 +195,10 @@ pub struct LocalCoordinatesSolver<'a> {
     start: SolverStart,
 }
 
+/// A [`LocalCoordinatesSolver`]'s point-independent work, without its geometry.
+#[derive(Clone, Debug)]
+pub(crate) struct PreparedSolver(SolverStart);
+
 #[derive(Clone, Debug)]
 enum SolverStart {
     Quadrilateral(QuadStart),
@@ -224,6 +228,24 @@ impl<'a> LocalCoordinatesSolver<'a> {
     /// The geometry.
     pub fn geometry(&self) -> &Geometry<'a> {
         &self.geometry
+    }
+
+    /// The prepared work, to make the same solver again for a copy of the same points
+    /// ([`from_prepared`](Self::from_prepared)).
+    pub(crate) fn prepared(&self) -> PreparedSolver {
+        PreparedSolver(self.start.clone())
+    }
+
+    /// The solver of `geometry` from the work `prepared` by a solver of the same kind and
+    /// points (a copy of them, in another buffer): every answer is that solver's.
+    pub(crate) fn from_prepared(
+        geometry: Geometry<'a>,
+        prepared: &PreparedSolver,
+    ) -> LocalCoordinatesSolver<'a> {
+        LocalCoordinatesSolver {
+            geometry,
+            start: prepared.0.clone(),
+        }
     }
 
     /// [`Geometry::point_local_coordinates`] of `p` (same result, same errors).

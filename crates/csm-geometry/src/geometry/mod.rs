@@ -16,6 +16,7 @@ pub use unit_normal::{FaceUnitNormals, MAX_FACE_NODES};
 mod tests;
 
 pub use geometry::Geometry;
+pub(crate) use local_coordinates::PreparedSolver;
 pub use local_coordinates::{
     LOCAL_COORDINATES_MAX_ITERATIONS, LOCAL_COORDINATES_TOLERANCE, LocalCoordinatesSolver,
 };

@@ -6,6 +6,7 @@ use super::face::{
     CLIPPING_TOLERANCE, DUPLICATE_POINT_TOLERANCE, MortarFace, MortarMode, ROBUST_AREA_FACTOR,
     SegmentationSettings,
 };
+use crate::geometry::PreparedSolver;
 use crate::math::{EPS, Point, Real, Vector, cross_kratos, dot_kratos, norm_kratos};
 use crate::projection::fast_project;
 use crate::{Error, Geometry, GeometryKind, LocalCoordinatesSolver};
@@ -18,6 +19,7 @@ const ROBUST_POINT_TOLERANCE: Real = 1e-12;
 
 /// The in-plane frame of the slave: centre `C`, tangents `t_ξ`, `t_η`, and the coordinate
 /// scale (1 in Kratos mode; the slave size in robust mode).
+#[derive(Debug)]
 struct Frame {
     center: Point,
     t_xi: Vector,
@@ -71,6 +73,133 @@ impl Frame {
     }
 }
 
+/// The slave's share of [`clip_prepared`], the same for each of its masters: its robust
+/// area, the frame, its nodes projected onto its plane and rotated, whether a node lies
+/// farther than the distance threshold from that plane (quadrilateral slaves), the prepared
+/// local-coordinates solvers of the rotated and of the local-coordinates geometry, and the
+/// rotated slave's normal — or the first error computing them, which every pair reports at
+/// the point where [`clip_prepared`] computes it.
+#[derive(Debug)]
+pub(super) struct ClipSlave(Result<ClipSlaveData, Error>);
+
+#[derive(Debug)]
+struct ClipSlaveData {
+    area: Real,
+    frame: Frame,
+    normal: Vector,
+    flat: [Point; 4],
+    rot: [Point; 4],
+    far: bool,
+    /// The rotated slave's solver, or the error building its geometry (raised after the
+    /// master's projections, where the pair builds it).
+    rot_solver: Result<PreparedSolver, Error>,
+    /// The solver of the geometry the cells' local coordinates use (after the master's
+    /// rotated geometry).
+    local_solver: Result<PreparedSolver, Error>,
+    /// The rotated slave's unit normal (raised where a pair fans at least three points).
+    rot_normal: Result<Vector, Error>,
+}
+
+impl ClipSlave {
+    /// Steps 1–2 of [`clip_prepared`] for the slave alone.
+    pub(super) fn new(slave: &MortarFace<'_>, settings: &SegmentationSettings) -> ClipSlave {
+        ClipSlave(ClipSlaveData::new(slave, settings))
+    }
+}
+
+impl ClipSlaveData {
+    fn new(
+        slave: &MortarFace<'_>,
+        settings: &SegmentationSettings,
+    ) -> Result<ClipSlaveData, Error> {
+        let mode = settings.mode;
+        let sg = slave.geometry();
+        let slave_is_quad = sg.kind() == GeometryKind::Quadrilateral3D4;
+        let area = sg.area_robust()?;
+
+        // 1. The frame.
+        let center = sg.center();
+        let mut n_s = slave.normal();
+        let n_norm = norm_kratos(&n_s);
+        if n_norm.is_nan() || n_norm <= EPS {
+            return Err(Error::degenerate("zero-length slave normal"));
+        }
+        let sp = sg.points();
+        let raw_t = if slave_is_quad {
+            sp[2] - sp[0]
+        } else {
+            sp[1] - sp[0]
+        };
+        let mut t_xi = raw_t / norm_kratos(&raw_t);
+        let scale = match mode {
+            MortarMode::Kratos => 1.0,
+            MortarMode::Robust => {
+                n_s /= n_norm;
+                t_xi -= n_s * dot_kratos(&t_xi, &n_s);
+                let t_norm = norm_kratos(&t_xi);
+                if t_norm.is_nan() || t_norm <= 1e-8 {
+                    return Err(Error::degenerate("slave normal lies in the slave plane"));
+                }
+                t_xi /= t_norm;
+                sg.scale()
+            }
+        };
+        let t_norm = norm_kratos(&t_xi);
+        if t_norm.is_nan() || t_norm <= 0.0 {
+            return Err(Error::degenerate("zero-length slave edge"));
+        }
+        let t_eta = cross_kratos(&n_s, &t_xi);
+        let frame = Frame {
+            center,
+            t_xi,
+            t_eta,
+            scale,
+            mode,
+        };
+
+        // 2. The slave's projection (quadrilaterals) and rotation.
+        let mut flat = [Point::origin(); 4]; // projected, not rotated (quadrilateral slave)
+        let mut rot = [Point::origin(); 4];
+        let mut far = false;
+        for (i, x) in sp.iter().enumerate() {
+            if slave_is_quad {
+                let (p, distance) = fast_project(&center, x, &n_s);
+                far |= distance > settings.distance_threshold;
+                flat[i] = p;
+                rot[i] = frame.rotate(&p);
+            } else {
+                flat[i] = *x;
+                rot[i] = frame.rotate(x);
+            }
+        }
+        let n = sp.len();
+        let rot_geom = Geometry::new(sg.kind(), &rot[..n]);
+        let rot_solver = rot_geom
+            .as_ref()
+            .map(|g| LocalCoordinatesSolver::new(*g).prepared())
+            .map_err(Clone::clone);
+        // The rotated slave lies in a plane z = const: its unit normal is (0, 0, ±1).
+        let rot_normal = rot_geom.and_then(|g| g.unit_normal(&g.reference_center()));
+        // The geometry whose local coordinates the cells use: the original triangle, or the
+        // projected quadrilateral (Kratos' `slave_geometry_not_rotated`).
+        let local_solver = Geometry::new(sg.kind(), &flat[..n]).map(|flat_geom| {
+            let local_geom = if slave_is_quad { flat_geom } else { *sg };
+            LocalCoordinatesSolver::new(local_geom).prepared()
+        });
+        Ok(ClipSlaveData {
+            area,
+            frame,
+            normal: n_s,
+            flat,
+            rot,
+            far,
+            rot_solver,
+            local_solver,
+            rot_normal,
+        })
+    }
+}
+
 /// The 3D segmentation (see [`exact_segmentation`](super::exact_segmentation)):
 /// 1. frame: `C` = slave centre, `t_ξ` = unit `X1 − X0` (triangle slave) or `X2 − X0`
 ///    (quadrilateral slave), `t_η = n_s × t_ξ`;
@@ -85,8 +214,11 @@ impl Frame {
 /// 5. at least 3 points: back to the plane, slave and master local coordinates, sorted by the
 ///    angle around the first point, fanned into triangles `(0, k, k+1)`; a triangle whose
 ///    centroid is outside the slave or the master reference element (tolerance ε) is dropped.
-pub(super) fn clip_face_face(
+///
+/// The slave's share is `prepared` ([`ClipSlave::new`] of the same slave and settings).
+pub(super) fn clip_prepared(
     slave: &MortarFace<'_>,
+    prepared: &ClipSlave,
     master: &MortarFace<'_>,
     settings: &SegmentationSettings,
 ) -> Result<Option<Segmentation>, Error> {
@@ -95,84 +227,44 @@ pub(super) fn clip_face_face(
     let mg = master.geometry();
     let slave_is_quad = sg.kind() == GeometryKind::Quadrilateral3D4;
     let master_is_quad = mg.kind() == GeometryKind::Quadrilateral3D4;
-    let slave_area = sg.area_robust()?;
+    let data = prepared.0.as_ref().map_err(Clone::clone)?;
+    let (frame, slave_area, n_s) = (&data.frame, data.area, &data.normal);
 
-    // 1. The frame.
-    let center = sg.center();
-    let mut n_s = slave.normal();
-    let n_norm = norm_kratos(&n_s);
-    if n_norm.is_nan() || n_norm <= EPS {
-        return Err(Error::degenerate("zero-length slave normal"));
+    // 2. Projections and rotation (the slave's are prepared).
+    if slave_is_quad && !master_is_quad && data.far {
+        return Ok(None);
     }
-    let sp = sg.points();
-    let raw_t = if slave_is_quad {
-        sp[2] - sp[0]
-    } else {
-        sp[1] - sp[0]
-    };
-    let mut t_xi = raw_t / norm_kratos(&raw_t);
-    let scale = match mode {
-        MortarMode::Kratos => 1.0,
-        MortarMode::Robust => {
-            n_s /= n_norm;
-            t_xi -= n_s * dot_kratos(&t_xi, &n_s);
-            let t_norm = norm_kratos(&t_xi);
-            if t_norm.is_nan() || t_norm <= 1e-8 {
-                return Err(Error::degenerate("slave normal lies in the slave plane"));
-            }
-            t_xi /= t_norm;
-            sg.scale()
-        }
-    };
-    let t_norm = norm_kratos(&t_xi);
-    if t_norm.is_nan() || t_norm <= 0.0 {
-        return Err(Error::degenerate("zero-length slave edge"));
-    }
-    let t_eta = cross_kratos(&n_s, &t_xi);
-    let frame = Frame {
-        center,
-        t_xi,
-        t_eta,
-        scale,
-        mode,
-    };
-
-    // 2. Projections and rotation.
-    let n_slave = sp.len();
+    let n_slave = sg.points().len();
     let n_master = mg.points().len();
-    let mut slave_flat = [Point::origin(); 4]; // projected, not rotated (quadrilateral slave)
-    let mut slave_rot = [Point::origin(); 4];
-    for i in 0..n_slave {
-        if slave_is_quad {
-            let (p, distance) = fast_project(&center, &sp[i], &n_s);
-            if !master_is_quad && distance > settings.distance_threshold {
-                return Ok(None);
-            }
-            slave_flat[i] = p;
-            slave_rot[i] = frame.rotate(&p);
-        } else {
-            slave_flat[i] = sp[i];
-            slave_rot[i] = frame.rotate(&sp[i]);
-        }
-    }
     let mut master_rot = [Point::origin(); 4];
     for (j, x) in mg.points().iter().enumerate() {
-        let (p, distance) = fast_project(&center, x, &n_s);
+        let (p, distance) = fast_project(&frame.center, x, n_s);
         if distance > settings.distance_threshold {
             return Ok(None);
         }
         master_rot[j] = frame.rotate(&p);
     }
-    let slave_rot_geom = Geometry::new(sg.kind(), &slave_rot[..n_slave])?;
+    let slave_rot_geom = Geometry::new(sg.kind(), &data.rot[..n_slave])?;
+    let rot_prepared = data.rot_solver.as_ref().map_err(Clone::clone)?;
     let master_rot_geom = Geometry::new(mg.kind(), &master_rot[..n_master])?;
-    let slave_flat_geom = Geometry::new(sg.kind(), &slave_flat[..n_slave])?;
-    // The geometry whose local coordinates the cells use: the original triangle, or the
-    // projected quadrilateral (Kratos' `slave_geometry_not_rotated`).
-    let slave_local_geom = if slave_is_quad { &slave_flat_geom } else { sg };
+    let local_prepared = data.local_solver.as_ref().map_err(Clone::clone)?;
+    let slave_local_geom = if slave_is_quad {
+        Geometry::new(sg.kind(), &data.flat[..n_slave])?
+    } else {
+        *sg
+    };
+    let slave_rot = &data.rot;
 
-    // Several points on each of these faces: the point-independent work once.
-    let slave_rot_solver = LocalCoordinatesSolver::new(slave_rot_geom);
+    // Several points on each of these faces: the point-independent work once (the slave's
+    // prepared for all its masters).
+    let slave_rot_solver = LocalCoordinatesSolver::from_prepared(slave_rot_geom, rot_prepared);
     let master_rot_solver = LocalCoordinatesSolver::new(master_rot_geom);
+    let fan = FanSlave {
+        frame,
+        slave: sg,
+        local_solver: LocalCoordinatesSolver::from_prepared(slave_local_geom, local_prepared),
+        rot_normal: &data.rot_normal,
+    };
 
     // 3. Master points inside the slave.
     let master_inside: Vec<bool> = master_rot[..n_master]
@@ -224,14 +316,7 @@ pub(super) fn clip_face_face(
             &master_inside,
             tol_dup,
         );
-        let cells = fan_cells(
-            &mut points,
-            &frame,
-            slave_local_geom,
-            sg,
-            &slave_rot_geom,
-            &master_rot_solver,
-        )?;
+        let cells = fan_cells(&mut points, &fan, &master_rot_solver)?;
         return Ok(finish(cells));
     }
 
@@ -251,18 +336,11 @@ pub(super) fn clip_face_face(
         &mut points,
         &slave_rot[..n_slave],
         &master_rot[..n_master],
-        &frame,
+        frame,
     );
 
     // 5. The fan.
-    let cells = fan_cells(
-        &mut points,
-        &frame,
-        slave_local_geom,
-        sg,
-        &slave_rot_geom,
-        &master_rot_solver,
-    )?;
+    let cells = fan_cells(&mut points, &fan, &master_rot_solver)?;
     Ok(finish(cells))
 }
 
@@ -393,17 +471,27 @@ fn clipping_2d(
     }
 }
 
+/// The slave's part of [`fan_cells`].
+#[derive(Debug)]
+struct FanSlave<'f> {
+    frame: &'f Frame,
+    /// The slave geometry (the cells' kind).
+    slave: &'f Geometry<'f>,
+    /// The solver of the geometry the cells' slave local coordinates use.
+    local_solver: LocalCoordinatesSolver<'f>,
+    /// The rotated slave's unit normal (the angles' axis).
+    rot_normal: &'f Result<Vector, Error>,
+}
+
 /// Kratos `TriangleIntersections` after the clipping: converts the (rotated) polygon points to
 /// slave and master local coordinates, sorts them by angle around the first point and fans
 /// them; drops triangles whose centroid is outside either reference element.
 fn fan_cells(
     points: &mut [Point],
-    frame: &Frame,
-    slave_local_geom: &Geometry<'_>,
-    slave: &Geometry<'_>,
-    slave_rot: &Geometry<'_>,
+    fan: &FanSlave<'_>,
     master_solver: &LocalCoordinatesSolver<'_>,
 ) -> Result<Vec<MortarCell>, Error> {
+    let (frame, slave) = (fan.frame, fan.slave);
     let master_rot = master_solver.geometry();
     let n = points.len();
     if n < 3 {
@@ -411,15 +499,13 @@ fn fan_cells(
     }
     let nan = Point::new(Real::NAN, Real::NAN, Real::NAN);
     let mut master_local = Vec::with_capacity(n);
-    let slave_solver = LocalCoordinatesSolver::new(*slave_local_geom);
     for p in points.iter_mut() {
         master_local.push(solver_local_coordinates(master_solver, p, frame.mode).unwrap_or(nan));
         let global = frame.unrotate(p);
-        *p = solver_local_coordinates(&slave_solver, &global, frame.mode).unwrap_or(nan);
+        *p = solver_local_coordinates(&fan.local_solver, &global, frame.mode).unwrap_or(nan);
     }
-    // The rotated slave lies in a plane z = const: its unit normal is (0, 0, ±1).
-    let normal = slave_rot.unit_normal(&slave_rot.reference_center())?;
-    let order = angle_order(points, &normal);
+    let normal = fan.rot_normal.as_ref().map_err(Clone::clone)?;
+    let order = angle_order(points, normal);
     let mut cells = Vec::with_capacity(n - 2);
     for k in 0..n - 2 {
         let ids = [0, order[k] + 1, order[k + 1] + 1];

@@ -37,4 +37,4 @@ pub use integration_points::{
     integration_points, integration_points_with_normals,
 };
 pub use operators::{MortarOperators, mortar_operators};
-pub use segmentation::exact_segmentation;
+pub use segmentation::{SlaveSegmentation, exact_segmentation};

@@ -1,7 +1,7 @@
 //! Entry point: dispatch on the slave/master kinds.
 
 use super::cell::Segmentation;
-use super::clip_face_face::clip_face_face;
+use super::clip_face_face::{ClipSlave, clip_prepared};
 use super::face::{MortarFace, SegmentationSettings};
 use super::segment_line_line::segment_line_line;
 use crate::{Error, ErrorKind, GeometryKind};
@@ -31,17 +31,59 @@ pub fn exact_segmentation(
     master: &MortarFace<'_>,
     settings: &SegmentationSettings,
 ) -> Result<Option<Segmentation>, Error> {
-    use GeometryKind as K;
-    if settings.distance_threshold.is_nan() {
-        return Err(Error::new(ErrorKind::NonFinite));
-    }
-    match (slave.geometry().kind(), master.geometry().kind()) {
-        (K::Line2D2, K::Line2D2) => segment_line_line(slave, master, settings),
-        (K::Triangle3D3 | K::Quadrilateral3D4, K::Triangle3D3 | K::Quadrilateral3D4) => {
-            clip_face_face(slave, master, settings)
+    SlaveSegmentation::new(slave, settings).segment(master)
+}
+
+/// [`exact_segmentation`] of one slave against each of its masters, with the slave's share of
+/// the 3D clipping (its area, frame, projected and rotated nodes, the point-independent work
+/// of its local coordinates) computed once: [`segment`](Self::segment) gives what
+/// `exact_segmentation` gives, errors included (an error of the slave's share is reported by
+/// every pair, at the point where `exact_segmentation` meets it).
+#[derive(Debug)]
+pub struct SlaveSegmentation<'s, 'f> {
+    slave: &'s MortarFace<'f>,
+    settings: SegmentationSettings,
+    /// The slave's share of the 3D clipping (triangle and quadrilateral slaves).
+    clip: Option<ClipSlave>,
+}
+
+impl<'s, 'f> SlaveSegmentation<'s, 'f> {
+    /// Prepares the segmentations of `slave` with `settings`.
+    pub fn new(slave: &'s MortarFace<'f>, settings: &SegmentationSettings) -> Self {
+        use GeometryKind as K;
+        let clip = (matches!(
+            slave.geometry().kind(),
+            K::Triangle3D3 | K::Quadrilateral3D4
+        ) && !settings.distance_threshold.is_nan())
+        .then(|| ClipSlave::new(slave, settings));
+        SlaveSegmentation {
+            slave,
+            settings: *settings,
+            clip,
         }
-        _ => Err(Error::new(ErrorKind::Unsupported(
-            "exact mortar segmentation of this pair of geometry kinds",
-        ))),
+    }
+
+    /// `exact_segmentation(slave, master, settings)`.
+    pub fn segment(&self, master: &MortarFace<'_>) -> Result<Option<Segmentation>, Error> {
+        use GeometryKind as K;
+        let (slave, settings) = (self.slave, &self.settings);
+        if settings.distance_threshold.is_nan() {
+            return Err(Error::new(ErrorKind::NonFinite));
+        }
+        match (
+            slave.geometry().kind(),
+            master.geometry().kind(),
+            &self.clip,
+        ) {
+            (K::Line2D2, K::Line2D2, _) => segment_line_line(slave, master, settings),
+            (
+                K::Triangle3D3 | K::Quadrilateral3D4,
+                K::Triangle3D3 | K::Quadrilateral3D4,
+                Some(clip),
+            ) => clip_prepared(slave, clip, master, settings),
+            _ => Err(Error::new(ErrorKind::Unsupported(
+                "exact mortar segmentation of this pair of geometry kinds",
+            ))),
+        }
     }
 }

@@ -6,7 +6,7 @@ use crate::common::Rng;
 use csm_geometry::math::{Point, Real, Vector};
 use csm_geometry::{
     Geometry, GeometryKind, MortarFace, MortarMode, OperatorSettings, SegmentationSettings,
-    dual_basis, exact_segmentation, integration_points, mortar_operators,
+    SlaveSegmentation, dual_basis, exact_segmentation, integration_points, mortar_operators,
 };
 
 const MODES: [MortarMode; 2] = [MortarMode::Kratos, MortarMode::Robust];
@@ -537,4 +537,54 @@ fn segments_2d_match_interval_intersection() {
         }
     }
     assert!(n_overlaps > 200, "{n_overlaps}");
+}
+
+/// One `SlaveSegmentation` reused for many masters gives, for each, what a fresh
+/// `exact_segmentation` gives (the slave's share carries nothing from one master to the
+/// next): cells and `None`s, masters beyond the distance threshold (which a quadrilateral
+/// slave's own warp can exceed), degenerate masters, and the errors of a degenerate slave.
+#[test]
+fn a_prepared_slave_segments_each_master_as_a_fresh_one() {
+    let mut rng = Rng::new(0x5E6_AE17);
+    let mut with_cells = 0;
+    for round in 0..120 {
+        let mode = MODES[round % 2];
+        let n_slave = 3 + round % 2;
+        let motion = Motion::random(&mut rng);
+        let mut slave = convex_polygon(&mut rng, n_slave, (0.0, 0.0), 1.0);
+        for q in &mut slave {
+            q.z = rng.range(-0.05, 0.05);
+        }
+        if round % 17 == 0 {
+            // A degenerate slave: every pair reports its error.
+            slave[1] = slave[0];
+        }
+        let s: Vec<Point> = slave.iter().map(|p| motion.apply(p)).collect();
+        let n = motion.rotate(&Vector::z());
+        let sf = MortarFace::new(Geometry::new(kind_of(n_slave), &s).unwrap(), n).unwrap();
+        let settings = SegmentationSettings {
+            mode,
+            distance_threshold: [1e24, 0.2, 0.04][round % 3],
+        };
+        let prepared = SlaveSegmentation::new(&sf, &settings);
+        for k in 0..12 {
+            let n_master = 3 + (k + round) % 2;
+            let c = (rng.range(-1.5, 1.5), rng.range(-1.5, 1.5));
+            let size = rng.range(0.2, 1.5);
+            let mut master = convex_polygon(&mut rng, n_master, c, size);
+            for q in &mut master {
+                q.z = rng.range(-0.3, 0.1);
+            }
+            if k == 5 {
+                master[2] = master[1];
+            }
+            let m: Vec<Point> = master.iter().map(|p| motion.apply(p)).collect();
+            let mf = MortarFace::new(Geometry::new(kind_of(n_master), &m).unwrap(), -n).unwrap();
+            let fresh = exact_segmentation(&sf, &mf, &settings);
+            let reused = prepared.segment(&mf);
+            assert_eq!(fresh, reused, "round {round}, master {k}");
+            with_cells += usize::from(matches!(fresh, Ok(Some(ref g)) if !g.cells().is_empty()));
+        }
+    }
+    assert!(with_cells > 200, "{with_cells}");
 }
