@@ -6,7 +6,7 @@ use csm_geometry::{
     Segmentation, SegmentationSettings, SlaveSegmentation, dual_basis, integration_points,
     mortar_operators,
 };
-use csm_geometry::{Geometry, MAX_FACE_NODES};
+use csm_geometry::{Geometry, MAX_FACE_NODES, MAX_MORTAR_FACE_NODES};
 use csm_model::{
     ConditionId, ConditionIdx, Flag, ModelPart, NodeIdx, PartIdx, ScalarVar, VectorVar,
 };
@@ -207,7 +207,10 @@ const CONDITIONS_PER_TASK: usize = 4096;
 /// The entries of consecutive slave conditions' INDEX_MAPs after the segmentation.
 #[derive(Default)]
 struct SlaveMapping {
-    kept: Vec<MappedPair>,
+    /// The kept (slave, master) pairs, in order.
+    kept: Vec<(ConditionIdx, ConditionIdx)>,
+    /// Their operators, packed one pair after the other ([`MortarOperators::pack_into`]).
+    operators: Vec<Real>,
     removed: Vec<RemovedEntry>,
     /// With [`WeightedGapInputs`]: the weighted-gap contribution of every kept pair.
     gaps: Vec<KnownGap>,
@@ -266,12 +269,8 @@ fn map_slave(
         let gps = integration_points(&slave, &master, &seg, op_settings)
             .map_err(|e| Error::condition("mortar integration", slave_id, &e))?;
         let basis = dual_basis(&slave, &gps);
-        let operators = mortar_operators(&slave, &master, &gps, Some(&basis));
-        out.kept.push(MappedPair {
-            slave: sc,
-            master: mc,
-            operators,
-        });
+        mortar_operators(&slave, &master, &gps, Some(&basis)).pack_into(&mut out.operators);
+        out.kept.push((sc, mc));
         // The weighted gap's segmentation of a face pair would be this one: it depends on
         // the coordinates and the slave's condition normal only (not on the nodal normals,
         // which differ), and both are the same then. Lines (2D) project along nodal normals.
@@ -333,13 +332,6 @@ fn slave_gap_data(
     };
     let area = slave_area(model, sc, &data);
     (data, area)
-}
-
-/// One pair with an overlap: its operators.
-struct MappedPair {
-    slave: ConditionIdx,
-    master: ConditionIdx,
-    operators: MortarOperators,
 }
 
 /// Kratos' `NormalGapProcess` (§10.1 a–b, §10.2) on ContactSub `sub`, after the search filled
@@ -476,11 +468,27 @@ fn normal_gap_process_inner(
         .slave_conditions
         .par_chunks(SLAVES_PER_TASK)
         .map(|chunk| {
+            // Room for every entry (the kept ones are at most these): no copies as the lists
+            // grow; the rest is given back after.
             let mut out = SlaveMapping::default();
+            let (mut entries, mut values) = (0, 0);
+            for &sc in chunk {
+                let map = m.index_map(sc);
+                let ns = m.conditions().nodes(sc.index()).len();
+                entries += map.len();
+                values += map.len() * MortarOperators::packed_len(ns, MAX_MORTAR_FACE_NODES);
+            }
+            out.kept.reserve_exact(entries);
+            out.operators.reserve_exact(values);
+            if weighted_gap.is_some() {
+                out.gaps.reserve_exact(entries);
+            }
             for &sc in chunk {
                 map_slave(m, sc, (&seg_settings, &op_settings), weighted_gap, &mut out)?;
             }
             out.kept.shrink_to_fit();
+            out.operators.shrink_to_fit();
+            out.gaps.shrink_to_fit();
             Ok(out)
         })
         .collect();
@@ -497,15 +505,27 @@ fn normal_gap_process_inner(
     let known = KnownGaps::new(gaps);
     // Only the slaves with kept pairs stay (most slave conditions have none on a large
     // interface with a small contact zone).
-    let per_slave: Vec<Vec<MappedPair>> = per_slave
+    let per_slave: Vec<SlaveMapping> = per_slave
         .into_iter()
         .filter(|m| !m.kept.is_empty())
-        .map(|m| m.kept)
         .collect();
-    let pairs = || per_slave.iter().flatten();
     for r in &report.removed {
         model.index_map_mut(r.slave).remove_id(r.master);
     }
+    // Every kept pair with its packed operators, in order.
+    let m = &*model;
+    let pairs = || {
+        per_slave.iter().flat_map(|mapped| {
+            let mut rest = mapped.operators.as_slice();
+            mapped.kept.iter().map(move |&(sc, mc)| {
+                let ns = m.conditions().nodes(sc.index()).len();
+                let nm = m.conditions().nodes(mc.index()).len();
+                let (packed, next) = rest.split_at(MortarOperators::packed_len(ns, nm));
+                rest = next;
+                (sc, mc, packed)
+            })
+        })
+    };
     report.kept = pairs().count();
     // 4. The explicit mapping iterations.
     let n_d = s.slave_nodes.len().max(1) as Real;
@@ -520,9 +540,9 @@ fn normal_gap_process_inner(
         for n in s.master_nodes.iter().chain(&s.slave_nodes) {
             vaux[n.index()] = Vector::zeros();
         }
-        for p in pairs() {
-            let slave_nodes = model.conditions().nodes(p.slave.index());
-            let master_nodes = model.conditions().nodes(p.master.index());
+        for (sc, mc, packed) in pairs() {
+            let slave_nodes = model.conditions().nodes(sc.index());
+            let master_nodes = model.conditions().nodes(mc.index());
             let (nm, ns) = (master_nodes.len(), slave_nodes.len());
             for k in 0..dim {
                 let mut mv = [0.0; MAX_FACE_NODES];
@@ -534,15 +554,15 @@ fn normal_gap_process_inner(
                 for (v, n) in sv.iter_mut().zip(slave_nodes) {
                     *v = aux[n.index()][k];
                 }
-                p.operators
-                    .residual_into(&mv[..nm], &sv[..ns], &mut r[..ns]);
+                MortarOperators::packed_residual_into(packed, &mv[..nm], &sv[..ns], &mut r[..ns]);
                 for (i, n) in slave_nodes.iter().enumerate() {
                     vaux[n.index()][k] += r[i];
                 }
             }
             if iteration == 0 {
+                // D's diagonal: the first ns² packed values are D, row by row.
                 for (i, n) in slave_nodes.iter().enumerate() {
-                    area[n.index()] += p.operators.d[(i, i)];
+                    area[n.index()] += packed[i * ns + i];
                 }
             }
         }

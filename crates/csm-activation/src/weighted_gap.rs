@@ -53,19 +53,29 @@ pub fn compute_weighted_gap(
         mode,
         distance_threshold,
     };
-    // Every pair's contribution in parallel, added below in pair order (Kratos' sums).
+    // The contributions the mapping did not compute, in parallel; every contribution is
+    // added below in pair order (Kratos' sums), the known ones read where they are.
     let m = &*model;
     let known = known.unwrap_or_default();
-    let contributions: Vec<Result<Option<PairGap>, Error>> = pairs
+    let computed: Vec<Result<Option<PairGap>, Error>> = pairs
         .par_iter()
-        .map(|&(sc, mc)| match known.get(sc, mc) {
-            Some(gap) => gap.clone(),
-            None => pair_weighted_gap(m, sc, mc, &seg_settings, dim),
-        })
+        .filter(|&&(sc, mc)| known.get(sc, mc).is_none())
+        .map(|&(sc, mc)| pair_weighted_gap(m, sc, mc, &seg_settings, dim))
         .collect();
+    let mut computed = computed.into_iter();
     let mut isolated = Vec::with_capacity(pairs.len());
-    for (contribution, &(sc, _)) in contributions.into_iter().zip(pairs) {
-        let contribution = contribution?;
+    for &(sc, mc) in pairs {
+        let fresh;
+        let contribution = match known.get(sc, mc) {
+            Some(gap) => gap,
+            None => {
+                fresh = computed
+                    .next()
+                    .expect("one computed contribution per unknown pair");
+                &fresh
+            }
+        };
+        let contribution = contribution.as_ref().map_err(Clone::clone)?;
         isolated.push(contribution.is_none());
         let Some(pair) = contribution else {
             continue;

@@ -30,17 +30,63 @@ impl MortarOperators {
     /// beyond the slave nodes are left alone): the same arithmetic, no allocation.
     pub fn residual_into(&self, master_values: &[Real], slave_values: &[Real], out: &mut [Real]) {
         for (i, o) in out.iter_mut().enumerate().take(self.d.nrows()) {
-            let mut mv = 0.0;
-            for (j, v) in master_values.iter().enumerate() {
-                mv += self.m[(i, j)] * v;
-            }
-            let mut ds = 0.0;
-            for (j, v) in slave_values.iter().enumerate() {
-                ds += self.d[(i, j)] * v;
-            }
-            *o = mv - ds;
+            *o = row_residual(self.m.row(i), master_values, self.d.row(i), slave_values);
         }
     }
+
+    /// The number of values [`pack_into`](Self::pack_into) appends for `slave_nodes` ×
+    /// `master_nodes` operators.
+    pub fn packed_len(slave_nodes: usize, master_nodes: usize) -> usize {
+        slave_nodes * (slave_nodes + master_nodes)
+    }
+
+    /// Appends `D` then `M`, row by row, to `out`: the used entries only (a store of many
+    /// pairs' operators without the fixed 4×4 blocks).
+    pub fn pack_into(&self, out: &mut Vec<Real>) {
+        for i in 0..self.d.nrows() {
+            out.extend_from_slice(self.d.row(i));
+        }
+        for i in 0..self.m.nrows() {
+            out.extend_from_slice(self.m.row(i));
+        }
+    }
+
+    /// [`residual_into`](Self::residual_into) of the operators `packed` by
+    /// [`pack_into`](Self::pack_into) (`slave_values.len()` slave and `master_values.len()`
+    /// master nodes): bit for bit the same values.
+    pub fn packed_residual_into(
+        packed: &[Real],
+        master_values: &[Real],
+        slave_values: &[Real],
+        out: &mut [Real],
+    ) {
+        let (ns, nm) = (slave_values.len(), master_values.len());
+        let (d, m) = packed.split_at(ns * ns);
+        for (i, o) in out.iter_mut().enumerate().take(ns) {
+            let d_row = &d[i * ns..(i + 1) * ns];
+            let m_row = &m[i * nm..(i + 1) * nm];
+            *o = row_residual(m_row, master_values, d_row, slave_values);
+        }
+    }
+}
+
+/// One row of the mapper residual, `Σ_j M_ij v_j − Σ_j D_ij s_j`, each sum in index order
+/// from 0 (ublas' `prod(M, V) − prod(D, S)`).
+fn row_residual(
+    m_row: &[Real],
+    master_values: &[Real],
+    d_row: &[Real],
+    slave_values: &[Real],
+) -> Real {
+    let mut mv = 0.0;
+    for (m, v) in m_row.iter().zip(master_values) {
+        mv += m * v;
+    }
+    let mut ds = 0.0;
+    for (d, v) in d_row.iter().zip(slave_values) {
+        ds += d * v;
+    }
+    mv - ds
 }
 
 /// `D` and `M` integrated over the Gauss points of one pair with `Φ = Ae · N_s` (`basis`) or

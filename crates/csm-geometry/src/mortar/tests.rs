@@ -431,3 +431,48 @@ mod with_normals {
         }
     }
 }
+
+/// Packed operators give the residual of the operators themselves, bit for bit, for every
+/// size of slave and master face, and `packed_len` is what `pack_into` appends.
+#[test]
+fn packed_operators_give_the_same_residual() {
+    // A deterministic spread of values over many magnitudes and both signs.
+    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1);
+        let unit = (state >> 11) as Real / (1u64 << 53) as Real;
+        (unit - 0.5) * (10.0 as Real).powi((state % 9) as i32 - 4)
+    };
+    for (ns, nm) in [(2, 2), (3, 3), (3, 4), (4, 3), (4, 4)] {
+        let mut ops = MortarOperators {
+            d: FaceMatrix::zeros(ns, ns),
+            m: FaceMatrix::zeros(ns, nm),
+        };
+        for i in 0..ns {
+            for j in 0..ns {
+                ops.d[(i, j)] = next();
+            }
+            for j in 0..nm {
+                ops.m[(i, j)] = next();
+            }
+        }
+        let mut packed = vec![7.0];
+        ops.pack_into(&mut packed);
+        assert_eq!(packed.len(), 1 + MortarOperators::packed_len(ns, nm));
+        let mv: Vec<Real> = (0..nm).map(|_| next()).collect();
+        let sv: Vec<Real> = (0..ns).map(|_| next()).collect();
+        let mut a = [0.0; 4];
+        let mut b = [0.0; 4];
+        ops.residual_into(&mv, &sv, &mut a[..ns]);
+        MortarOperators::packed_residual_into(&packed[1..], &mv, &sv, &mut b[..ns]);
+        for i in 0..ns {
+            assert_eq!(a[i].to_bits(), b[i].to_bits(), "{ns}x{nm} row {i}");
+            // Both are the residual M·v − D·s.
+            let direct: Real = (0..nm).map(|j| ops.m[(i, j)] * mv[j]).sum::<Real>()
+                - (0..ns).map(|j| ops.d[(i, j)] * sv[j]).sum::<Real>();
+            assert!((a[i] - direct).abs() <= 1e-12 * (1.0 + direct.abs()));
+        }
+    }
+}
