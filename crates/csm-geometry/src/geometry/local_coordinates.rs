@@ -357,7 +357,18 @@ impl Geometry<'_> {
         let x_nodes = self.quadrilateral_nodes();
         let (x, d) = quadrilateral_x_d(&x_nodes, 0.0, 0.0);
         let (det, inv) = quadrilateral_inverse(&d);
-        QuadStart { x, d, det, inv }
+        QuadStart {
+            x,
+            d,
+            inv,
+            singular: self.singular_start(det),
+        }
+    }
+
+    /// Whether `det A` at the start of Kratos' quadrilateral iteration is singular (where
+    /// Kratos would divide by zero): NaN or at most `1e-28 · scale⁴`.
+    fn singular_start(&self, det: Real) -> bool {
+        det.is_nan() || det <= (DEGENERATE_REL * DEGENERATE_REL) * self.scale().powi(4)
     }
 
     fn quadrilateral_nodes(&self) -> [[Real; 3]; 4] {
@@ -384,16 +395,23 @@ impl Geometry<'_> {
         debug_assert_eq!(self.kind(), GeometryKind::Quadrilateral3D4);
         let x_nodes = self.quadrilateral_nodes();
         let target = [p.x, p.y, p.z];
-        let det_floor = (DEGENERATE_REL * DEGENERATE_REL) * self.scale().powi(4);
         let (mut xi, mut eta) = (0.0, 0.0);
         let mut outcome = NewtonOutcome::MaxIterations;
         for k in 0..KRATOS_QUADRILATERAL_MAX_ITERATIONS {
-            let (x, d, det, inv) = match (k, start) {
-                (0, Some(s)) => (s.x, s.d, s.det, s.inv),
+            let (x, d, inv) = match (k, start) {
+                (0, Some(s)) => {
+                    if s.singular {
+                        return Err(Error::degenerate("singular Jacobian"));
+                    }
+                    (s.x, s.d, s.inv)
+                }
                 _ => {
                     let (x, d) = quadrilateral_x_d(&x_nodes, xi, eta);
                     let (det, inv) = quadrilateral_inverse(&d);
-                    (x, d, det, inv)
+                    if k == 0 && self.singular_start(det) {
+                        return Err(Error::degenerate("singular Jacobian"));
+                    }
+                    (x, d, inv)
                 }
             };
             let r = [target[0] - x[0], target[1] - x[1], target[2] - x[2]];
@@ -404,9 +422,6 @@ impl Geometry<'_> {
                     t += dc[i] * rc;
                 }
                 *bi = t;
-            }
-            if k == 0 && (det.is_nan() || det <= det_floor) {
-                return Err(Error::degenerate("singular Jacobian"));
             }
             let [inv00, inv10, inv01, inv11] = inv;
             let d_xi = inv00 * b[0] + inv01 * b[1];
@@ -487,8 +502,9 @@ fn quadrilateral_inverse(d: &[[Real; 2]; 3]) -> (Real, [Real; 4]) {
 struct QuadStart {
     x: [Real; 3],
     d: [[Real; 2]; 3],
-    det: Real,
     inv: [Real; 4],
+    /// `det A` is singular ([`Geometry::singular_start`]): the iteration fails at once.
+    singular: bool,
 }
 
 fn finite(p: Point) -> Result<Point, Error> {
