@@ -508,6 +508,12 @@ fn normal_gap_process_inner(
     let per_slave: Vec<SlaveMapping> = per_slave
         .into_iter()
         .filter(|m| !m.kept.is_empty())
+        .map(|m| SlaveMapping {
+            kept: m.kept,
+            operators: m.operators,
+            // (The removed entries are reported and the contributions taken.)
+            ..SlaveMapping::default()
+        })
         .collect();
     for r in &report.removed {
         model.index_map_mut(r.slave).remove_id(r.master);

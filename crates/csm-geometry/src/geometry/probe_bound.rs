@@ -47,13 +47,19 @@ impl Geometry<'_> {
     ///   coordinate); its step is at most `δ = 2 |r| |D|_F / |A|` (the smaller singular value
     ///   of the tangents `D` is at least `|A| / |D|_F`). When `δ < 1e-9` it converges in that
     ///   step (below the 1e-8 tolerance), and the normal there is within `ρ = δ (|B| + |C|)`
-    ///   of `A`, so `direction · n ≥ 1 − 2ρ/|A|` (less a rounding allowance).
+    ///   of `A`, so `direction · n ≥ 1 − 2ρ/|A|` (less a rounding allowance). The condition
+    ///   `δ < 1e-9` also bounds the largest coordinate to about 1e4 face sizes, which keeps the
+    ///   rounding of the exact Jacobians (proportional to `u R`) far inside the length and
+    ///   cosine allowances: a mesh farther from its origin than that takes the exact probe.
     ///
     /// In both cases the degeneracy tests of the local coordinates (`det ≤ 1e-28 · scale⁴`),
     /// of the normal (`≤ 1e-14 · scale²`) and of the length are far from reached.
     pub fn centre_probe_bound(&self) -> Option<CentreProbeBound> {
         let p = self.points();
-        if p.iter().any(|x| !crate::math::is_finite_point(x)) {
+        // Finite points whose mean overflows: the exact centre is not finite.
+        if p.iter().any(|x| !crate::math::is_finite_point(x))
+            || !crate::math::is_finite_point(&self.center())
+        {
             return None;
         }
         let scale = self.scale();

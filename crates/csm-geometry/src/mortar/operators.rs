@@ -29,6 +29,9 @@ impl MortarOperators {
     /// [`residual`](Self::residual) written into `out` (one entry per slave node; entries
     /// beyond the slave nodes are left alone): the same arithmetic, no allocation.
     pub fn residual_into(&self, master_values: &[Real], slave_values: &[Real], out: &mut [Real]) {
+        debug_assert!(
+            master_values.len() == self.m.ncols() && slave_values.len() == self.d.ncols()
+        );
         for (i, o) in out.iter_mut().enumerate().take(self.d.nrows()) {
             *o = row_residual(self.m.row(i), master_values, self.d.row(i), slave_values);
         }
@@ -61,6 +64,7 @@ impl MortarOperators {
         out: &mut [Real],
     ) {
         let (ns, nm) = (slave_values.len(), master_values.len());
+        debug_assert_eq!(packed.len(), MortarOperators::packed_len(ns, nm));
         let (d, m) = packed.split_at(ns * ns);
         for (i, o) in out.iter_mut().enumerate().take(ns) {
             let d_row = &d[i * ns..(i + 1) * ns];

@@ -115,6 +115,30 @@ fn degenerate_element_is_an_error_not_a_panic() {
     assert!(normal_check(&mut m, &NormalCheckSettings::default()).is_err());
 }
 
+/// A hexahedron flattened to its square base: its base face is well shaped, so pass 1 decides
+/// that face's probe from the bounds — and still reports the element's singular Jacobian,
+/// as the exact probe's inside test does.
+#[test]
+fn a_flat_element_is_an_error_when_the_bounds_decide_its_face() {
+    let points: Vec<Point> = CUBE
+        .iter()
+        .map(|&(x, y, _)| Point::new(x, y, 0.0))
+        .collect();
+    let base = Geometry::new(GeometryKind::Quadrilateral3D4, &points[..4]).unwrap();
+    assert!(base.centre_probe_bound().is_some());
+    let mut m = one_solid(
+        GeometryKind::Hexahedra3D8,
+        "Element3D8N",
+        &points,
+        &[1, 2, 3, 4, 5, 6, 7, 8],
+        true,
+    );
+    let err = normal_check(&mut m, &NormalCheckSettings::default()).unwrap_err();
+    let message = err.to_string();
+    assert!(message.contains("singular Jacobian"), "{message}");
+    assert!(message.contains('1'), "{message}");
+}
+
 /// The robust permutations reverse the orientation of every kind (solids: sign of det J at the
 /// reference centre; faces: direction of the normal) and keep mid nodes between their corners.
 #[test]
