@@ -496,10 +496,8 @@ fn normal_gap_process_inner(
     let mut per_slave = per_slave.into_iter().collect::<Result<Vec<_>, Error>>()?;
     let n_gaps = per_slave.iter().map(|m| m.gaps.len()).sum();
     let mut gaps = Vec::with_capacity(n_gaps);
-    for mapped in &per_slave {
-        report.removed.extend_from_slice(&mapped.removed);
-    }
     for mapped in &mut per_slave {
+        report.removed.extend_from_slice(&mapped.removed);
         gaps.append(&mut mapped.gaps);
     }
     let known = KnownGaps::new(gaps);
@@ -532,7 +530,7 @@ fn normal_gap_process_inner(
             })
         })
     };
-    report.kept = pairs().count();
+    report.kept = per_slave.iter().map(|m| m.kept.len()).sum();
     // 4. The explicit mapping iterations.
     let n_d = s.slave_nodes.len().max(1) as Real;
     let mut r0: [Real; 3] = [0.0; 3];

@@ -6,7 +6,7 @@ use csm_geometry::{
     dual_basis, exact_segmentation, integration_points, integration_points_with_normals,
     mortar_operators,
 };
-use csm_geometry::{Geometry, MortarFace, Segmentation};
+use csm_geometry::{Geometry, MAX_MORTAR_FACE_NODES, MortarFace, Segmentation};
 use csm_model::{ConditionIdx, ModelPart, PartIdx, ScalarVar};
 use rayon::prelude::*;
 
@@ -90,15 +90,11 @@ pub fn compute_weighted_gap(
     Ok(isolated)
 }
 
-/// The most slave nodes of a pair the weighted gap supports (Line2D2, Triangle3D3,
-/// Quadrilateral3D4: the kinds of the exact segmentation).
-const GAP_NODES: usize = 4;
-
 /// One pair's weighted-gap contribution per slave node (in node order).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct PairGap {
     len: usize,
-    gaps: [Real; GAP_NODES],
+    gaps: [Real; MAX_MORTAR_FACE_NODES],
 }
 
 impl PairGap {
@@ -233,14 +229,11 @@ pub(crate) fn segmented_pair_gap(
     let ops = mortar_operators(slave, master, &gps, Some(&basis));
     // Kratos: `D_x1_M_x2 = prod(D, x1) − prod(M, x2)`, then
     // `WEIGHTED_GAP_i += inner_prod(row_i, −n_i)` (sums in index order from 0).
-    if sdata.points.len() > GAP_NODES {
-        return Err(Error::message_only(format!(
-            "weighted gap of condition {slave_id}: a slave of more than {GAP_NODES} nodes"
-        )));
-    }
+    // `slave` is a mortar face of these points: it has at most four nodes.
+    debug_assert!(sdata.points.len() <= MAX_MORTAR_FACE_NODES);
     let mut out = PairGap {
         len: sdata.points.len(),
-        gaps: [0.0; GAP_NODES],
+        gaps: [0.0; MAX_MORTAR_FACE_NODES],
     };
     for (i, gap) in out.gaps[..out.len].iter_mut().enumerate() {
         let normal = sdata.nodal_normals[i];

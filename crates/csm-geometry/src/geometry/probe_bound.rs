@@ -63,11 +63,11 @@ impl Geometry<'_> {
             return None;
         }
         let scale = self.scale();
-        let (a, cos_floor, area_floor) = match self.kind() {
+        let (a, norm, cos_floor, area_floor) = match self.kind() {
             GeometryKind::Triangle3D3 => {
                 let a = (p[1] - p[0]).cross(&(p[2] - p[0]));
                 let norm = a.norm();
-                (a, 1.0 - 1e-12, norm * (1.0 - LENGTH_SLACK))
+                (a, norm, 1.0 - 1e-12, norm * (1.0 - LENGTH_SLACK))
             }
             GeometryKind::Quadrilateral3D4 => {
                 let e1 = 0.25 * ((p[1] - p[0]) + (p[2] - p[3]));
@@ -89,13 +89,13 @@ impl Geometry<'_> {
                 let rho = step * (e1.cross(&e3).norm() + e3.cross(&e2).norm());
                 (
                     a,
+                    norm,
                     1.0 - 2.0 * rho / norm - 1e-12,
                     4.0 * norm * (1.0 - LENGTH_SLACK),
                 )
             }
             _ => return None,
         };
-        let norm = a.norm();
         let shaped = norm >= MIN_SHAPE * scale * scale && norm.is_finite();
         // NaN fails both comparisons: no conclusion.
         if !shaped || cos_floor.is_nan() || cos_floor <= 0.5 {
