@@ -8,7 +8,7 @@ use csm_geometry::{
 };
 use csm_geometry::{Geometry, MAX_FACE_NODES, MAX_MORTAR_FACE_NODES};
 use csm_model::{
-    ConditionId, ConditionIdx, Flag, ModelPart, NodeIdx, PartIdx, ScalarVar, VectorVar,
+    ConditionId, ConditionIdx, FaceNormals, Flag, ModelPart, NodeIdx, PartIdx, ScalarVar, VectorVar,
 };
 
 use rayon::prelude::*;
@@ -175,17 +175,23 @@ pub(crate) fn make_face<'a>(
 /// `ComputeNodesMeanNormalModelPart` of one side: nodal NORMAL := 0 on the nodes of its
 /// conditions, condition normal := unit normal at the centre, every node accumulates the unit
 /// normal at its own local coordinates, then one normalisation (norm > eps).
+/// `known`: the faces' unit normals on the current coordinates, where the caller has them
+/// ([`FaceNormals::subset`]; computed here otherwise).
 pub(crate) fn mean_normals(
     model: &mut ModelPart,
     conditions: &[ConditionIdx],
+    known: Option<&FaceNormals>,
 ) -> Result<(), Error> {
     model.nodal_data_mut().add_vector(VectorVar::Normal);
-    let faces = csm_model::face_unit_normals(model, conditions).map_err(|e| match e.kind() {
-        csm_model::ErrorKind::Geometry { id, source, .. } => {
-            Error::condition("unit normal", *id, source)
-        }
-        _ => Error::message_only(e.to_string()),
-    })?;
+    let faces = match known.and_then(|table| table.subset(model, conditions)) {
+        Some(faces) => faces,
+        None => csm_model::face_unit_normals(model, conditions).map_err(|e| match e.kind() {
+            csm_model::ErrorKind::Geometry { id, source, .. } => {
+                Error::condition("unit normal", *id, source)
+            }
+            _ => Error::message_only(e.to_string()),
+        })?,
+    };
     // Sums in the order of `conditions`; every node of a face is written once, so the order
     // of the writes does not matter.
     let (sums, count) = faces.nodal_sums(model);
@@ -347,13 +353,18 @@ fn slave_gap_data(
 /// 5. `ComputeNormalGap`: on nodes with `SLAVE == !inverted`, `NORMAL_GAP = (X − AUX)·(−n)`
 ///    where `|AUX| > eps` (else the sentinel stays, Q39); the other side's nodes get 0.
 ///
+/// `face_normals`: where the caller has them, the unit normals of the faces of `sub` on the
+/// current coordinates (the table [`csm_model::compute_unit_normals`] returns), which step 2
+/// then does not compute again; `None` computes them.
+///
 /// Errors: a face the mortar routines refuse (unsupported kind, degenerate geometry).
 pub fn normal_gap_process(
     model: &mut ModelPart,
     sub: PartIdx,
     settings: &MappingSettings,
+    face_normals: Option<FaceNormals>,
 ) -> Result<MappingReport, Error> {
-    normal_gap_process_inner(model, sub, settings, None).map(|(report, _)| report)
+    normal_gap_process_inner(model, sub, settings, face_normals, None).map(|(report, _)| report)
 }
 
 /// [`normal_gap_process`] that also computes the weighted gap
@@ -361,23 +372,26 @@ pub fn normal_gap_process(
 /// step in which the coordinates do not move before the weighted gap: `unit_normals` (by node
 /// index) are the nodal `NORMAL` the weighted gap will read (the unit normals the caller
 /// writes back after the mapping). Face pairs only (3D); the weighted gap computes the others.
+/// `face_normals` as for [`normal_gap_process`].
 pub fn normal_gap_process_keeping(
     model: &mut ModelPart,
     sub: PartIdx,
     settings: &MappingSettings,
+    face_normals: Option<FaceNormals>,
     unit_normals: &[Vector],
 ) -> Result<(MappingReport, KnownGaps), Error> {
     let inputs = WeightedGapInputs {
         unit_normals,
         dim: settings.dim.clamp(1, 3),
     };
-    normal_gap_process_inner(model, sub, settings, Some(inputs))
+    normal_gap_process_inner(model, sub, settings, face_normals, Some(inputs))
 }
 
 fn normal_gap_process_inner(
     model: &mut ModelPart,
     sub: PartIdx,
     settings: &MappingSettings,
+    face_normals: Option<FaceNormals>,
     weighted_gap: Option<WeightedGapInputs<'_>>,
 ) -> Result<(MappingReport, KnownGaps), Error> {
     let o = !settings.inverted;
@@ -417,8 +431,9 @@ fn normal_gap_process_inner(
         };
     }
     // 2. Mean normals: origin (master side) first, destination (slave side) second.
-    mean_normals(model, &s.master_conditions)?;
-    mean_normals(model, &s.slave_conditions)?;
+    mean_normals(model, &s.master_conditions, face_normals.as_ref())?;
+    mean_normals(model, &s.slave_conditions, face_normals.as_ref())?;
+    drop(face_normals);
     // Destination reset.
     for n in &s.slave_nodes {
         aux[n.index()] = Vector::zeros();

@@ -94,7 +94,7 @@ fn settings() -> MappingSettings {
 #[test]
 fn mapping_prunes_the_far_master_and_maps_the_gap() {
     let (mut m, sub) = scene(0.01);
-    let r = normal_gap_process(&mut m, sub, &settings()).unwrap();
+    let r = normal_gap_process(&mut m, sub, &settings(), None).unwrap();
     assert_eq!(r.kept, 1);
     assert_eq!(r.removed.len(), 1);
     assert_eq!(r.removed[0].master, ConditionId(3));
@@ -122,7 +122,7 @@ fn mapping_prunes_the_far_master_and_maps_the_gap() {
 fn without_masters_every_slave_node_keeps_the_sentinel() {
     let (mut m, sub) = scene(0.01);
     m.index_map_mut(ConditionIdx(0)).remove_id(ConditionId(2));
-    let r = normal_gap_process(&mut m, sub, &settings()).unwrap();
+    let r = normal_gap_process(&mut m, sub, &settings(), None).unwrap();
     assert_eq!(r.kept, 0);
     let gap = m.nodal_data().scalar(ScalarVar::NormalGap, 0).unwrap();
     assert!(gap[..4].iter().all(|g| *g == NORMAL_GAP_SENTINEL));
@@ -138,7 +138,7 @@ fn simple_activation_uses_the_gap_threshold_and_zeroes_inactive_gaps() {
     };
     // Penetration: active, gap kept.
     let (mut m, sub) = scene(-0.01);
-    normal_gap_process(&mut m, sub, &settings()).unwrap();
+    normal_gap_process(&mut m, sub, &settings(), None).unwrap();
     compute_active_inactive_nodes(&mut m, sub, &act);
     assert!(m.nodes().flags()[1].is(Flag::ACTIVE));
     assert!(m.nodes().flags()[1].is(Flag::MARKER));
@@ -146,7 +146,7 @@ fn simple_activation_uses_the_gap_threshold_and_zeroes_inactive_gaps() {
     assert!((gap[1] + 0.01).abs() < 1e-9);
     // Open gap 0.01 > 2e-3 · 1: inactive, gap 0 (Q24); robust keeps it.
     let (mut m, sub) = scene(0.01);
-    normal_gap_process(&mut m, sub, &settings()).unwrap();
+    normal_gap_process(&mut m, sub, &settings(), None).unwrap();
     compute_active_inactive_nodes(&mut m, sub, &act);
     assert!(!m.nodes().flags()[1].is(Flag::ACTIVE));
     assert_eq!(
@@ -154,7 +154,7 @@ fn simple_activation_uses_the_gap_threshold_and_zeroes_inactive_gaps() {
         0.0
     );
     let (mut m, sub) = scene(0.01);
-    normal_gap_process(&mut m, sub, &settings()).unwrap();
+    normal_gap_process(&mut m, sub, &settings(), None).unwrap();
     let robust = ActivationSettings {
         keep_gap_on_inactive: true,
         ..act
@@ -178,12 +178,12 @@ fn advanced_activation_uses_distance_threshold_times_active_check_factor() {
     };
     // L = 0.1 · 0.01 = 0.001 < 0.005: inactive.
     let (mut m, sub) = scene(0.005);
-    normal_gap_process(&mut m, sub, &settings()).unwrap();
+    normal_gap_process(&mut m, sub, &settings(), None).unwrap();
     compute_active_inactive_nodes(&mut m, sub, &rule(0.1));
     assert!(!m.nodes().flags()[1].is(Flag::ACTIVE));
     // L = 1 · 0.01 > 0.005: active.
     let (mut m, sub) = scene(0.005);
-    normal_gap_process(&mut m, sub, &settings()).unwrap();
+    normal_gap_process(&mut m, sub, &settings(), None).unwrap();
     assert_eq!(
         compute_active_inactive_nodes(&mut m, sub, &rule(1.0)).active,
         4
@@ -238,7 +238,7 @@ fn contact_pressure_scene(gap: f64) -> (ModelPart, PartIdx) {
     let (mut m, sub) = scene(gap);
     m.nodal_data_mut()
         .add_scalar(ScalarVar::LagrangeMultiplierContactPressure);
-    normal_gap_process(&mut m, sub, &settings()).unwrap();
+    normal_gap_process(&mut m, sub, &settings(), None).unwrap();
     (m, sub)
 }
 
@@ -398,7 +398,7 @@ fn slip_rule_marks_frictionless_activated_nodes_slip() {
     let (mut m, sub) = scene(-0.01);
     m.nodal_data_mut()
         .add_vector(VectorVar::VectorLagrangeMultiplier);
-    normal_gap_process(&mut m, sub, &settings()).unwrap();
+    normal_gap_process(&mut m, sub, &settings(), None).unwrap();
     let ms = MultiplierSettings {
         kind: MultiplierKind::of(&m),
         slip: true,

@@ -94,7 +94,7 @@ impl FaceNormals {
     /// The faces, in the order they were given to [`face_unit_normals`].
     pub fn iter(&self) -> impl Iterator<Item = FaceNormalsRef<'_>> + '_ {
         (0..self.conditions.len()).map(move |i| {
-            let start = if i == 0 { 0 } else { self.ends[i - 1] as usize };
+            let start = self.nodes_start(i);
             FaceNormalsRef {
                 condition: self.conditions[i],
                 centre: self.centres[i],
@@ -108,11 +108,24 @@ impl FaceNormals {
     /// face order (Kratos' order), and the number of its faces (0: a node of no face).
     ///
     /// Cache-friendly and parallel, with the serial sums bit for bit: the (node, normal)
-    /// contributions are first sorted by blocks of consecutive node indices, keeping the face
-    /// order within each block (sequential writes); each block then adds its contributions in
-    /// that order into its own small slice of the sums (in parallel). Every node receives its
-    /// faces' normals in face order, as a serial loop adds them.
+    /// contributions of each chunk of consecutive faces are first sorted by blocks of
+    /// consecutive node indices, keeping the face order within each block (sequential writes;
+    /// the chunks in parallel); each block then adds its contributions, chunk after chunk, into
+    /// its own small slice of the sums (in parallel). Every node receives its faces' normals in
+    /// face order, as a serial loop adds them.
     pub fn nodal_sums(&self, model: &ModelPart) -> (Vec<Vector>, Vec<u32>) {
+        self.nodal_sums_in_chunks(model, FACES_PER_TASK)
+    }
+
+    /// [`FaceNormals::nodal_sums`] with the contributions sorted by chunks of
+    /// `faces_per_chunk` faces (in parallel): each chunk sorts its own contributions by
+    /// block, and each block then takes the chunks' contributions in chunk order — the face
+    /// order.
+    fn nodal_sums_in_chunks(
+        &self,
+        model: &ModelPart,
+        faces_per_chunk: usize,
+    ) -> (Vec<Vector>, Vec<u32>) {
         if self.centres.len() >= NODAL_ENTRY as usize || self.nodes.len() >= NODAL_ENTRY as usize {
             return self.nodal_sums_serial(model);
         }
@@ -122,33 +135,46 @@ impl FaceNormals {
         let conditions = model.conditions();
         let block_of = |node: usize| node >> NODE_BLOCK_BITS;
         let n_blocks = block_of(n_nodes) + 1;
-        // Contributions per block: a counting pass, then the contributions placed in face
-        // order. A contribution is (node, normal): the face's centre normal (uniform faces)
-        // or an entry of the nodal table, told apart by the top bit.
-        let mut start = vec![0usize; n_blocks + 1];
-        for face in self.iter() {
-            for node in conditions.nodes(face.condition.index()) {
-                start[block_of(node.index()) + 1] += 1;
+        // A contribution is (node, normal): the face's centre normal (uniform faces) or an
+        // entry of the nodal table, told apart by the top bit.
+        let reference = |face: usize, k: usize| {
+            if self.ends[face] == self.nodes_start(face) as u32 {
+                face as u32
+            } else {
+                (self.nodes_start(face) + k) as u32 | NODAL_ENTRY
             }
-        }
-        for b in 0..n_blocks {
-            start[b + 1] += start[b];
-        }
-        let mut next = start.clone();
-        let mut contributions = vec![(0u32, 0u32); start[n_blocks]];
-        for (i, face) in self.iter().enumerate() {
-            let uniform = face.nodes.is_empty();
-            for (k, node) in conditions.nodes(face.condition.index()).iter().enumerate() {
-                let normal = if uniform {
-                    i as u32
-                } else {
-                    (face.nodes_start + k) as u32 | NODAL_ENTRY
-                };
-                let slot = &mut next[block_of(node.index())];
-                contributions[*slot] = (node.get(), normal);
-                *slot += 1;
-            }
-        }
+        };
+        let faces = faces_per_chunk.max(1);
+        let chunks: Vec<SortedChunk> = (0..self.conditions.len().div_ceil(faces))
+            .into_par_iter()
+            .map(|chunk| {
+                let range = chunk * faces..((chunk + 1) * faces).min(self.conditions.len());
+                let face_nodes = |f: usize| conditions.nodes(self.conditions[f].index());
+                // A counting pass, then the contributions placed in face order per block.
+                let mut start = vec![0usize; n_blocks + 1];
+                for f in range.clone() {
+                    for node in face_nodes(f) {
+                        start[block_of(node.index()) + 1] += 1;
+                    }
+                }
+                for b in 0..n_blocks {
+                    start[b + 1] += start[b];
+                }
+                let mut next = start.clone();
+                let mut contributions = vec![(0u32, 0u32); start[n_blocks]];
+                for f in range {
+                    for (k, node) in face_nodes(f).iter().enumerate() {
+                        let slot = &mut next[block_of(node.index())];
+                        contributions[*slot] = (node.get(), reference(f, k));
+                        *slot += 1;
+                    }
+                }
+                SortedChunk {
+                    start,
+                    contributions,
+                }
+            })
+            .collect();
         let normal = |r: u32| {
             if r & NODAL_ENTRY == 0 {
                 self.centres[r as usize]
@@ -161,13 +187,24 @@ impl FaceNormals {
             .enumerate()
             .for_each(|(b, (sums, count))| {
                 let first = b << NODE_BLOCK_BITS;
-                for &(node, r) in &contributions[start[b]..start[b + 1]] {
-                    let i = node as usize - first;
-                    sums[i] += normal(r);
-                    count[i] += 1;
+                for chunk in &chunks {
+                    for &(node, r) in &chunk.contributions[chunk.start[b]..chunk.start[b + 1]] {
+                        let i = node as usize - first;
+                        sums[i] += normal(r);
+                        count[i] += 1;
+                    }
                 }
             });
         (sums, count)
+    }
+
+    /// The start of face `face`'s nodal normals in `nodes` (the previous face's end).
+    fn nodes_start(&self, face: usize) -> usize {
+        if face == 0 {
+            0
+        } else {
+            self.ends[face - 1] as usize
+        }
     }
 
     /// [`FaceNormals::nodal_sums`] as one serial loop over the faces (the reference the
@@ -186,6 +223,34 @@ impl FaceNormals {
         (sums, count)
     }
 
+    /// The table of the face conditions of `conditions` (in that order; other kinds are
+    /// skipped, as [`face_unit_normals`] skips them) taken from this one: on the coordinates
+    /// this table was computed on, bit for bit what [`face_unit_normals`] computes, without
+    /// computing it again. `None` when one of those faces is not in this table.
+    pub fn subset(&self, model: &ModelPart, conditions: &[ConditionIdx]) -> Option<FaceNormals> {
+        const ABSENT: u32 = u32::MAX;
+        let mut position = vec![ABSENT; model.conditions().len()];
+        for (i, c) in self.conditions.iter().enumerate() {
+            *position.get_mut(c.index())? = i as u32;
+        }
+        let kinds = model.conditions();
+        let mut table = FaceNormals::default();
+        let mut end = 0u32;
+        for &c in conditions {
+            if !kinds.kind(c.index()).is_face() {
+                continue;
+            }
+            let i = *position.get(c.index()).filter(|&&i| i != ABSENT)? as usize;
+            let nodes = &self.nodes[self.nodes_start(i)..self.ends[i] as usize];
+            table.conditions.push(c);
+            table.centres.push(self.centres[i]);
+            table.nodes.extend_from_slice(nodes);
+            end += nodes.len() as u32;
+            table.ends.push(end);
+        }
+        Some(table)
+    }
+
     /// Sets every face's condition normal ([`ModelPart::condition_normals`]) to its centre
     /// normal.
     pub fn set_condition_normals(&self, model: &mut ModelPart) {
@@ -194,6 +259,13 @@ impl FaceNormals {
             condition_normals[face.condition.index()] = face.centre;
         }
     }
+}
+
+/// One chunk of faces' (node, normal) contributions of [`FaceNormals::nodal_sums`], sorted by
+/// node block (face order within a block): block `b`'s are `contributions[start[b]..start[b + 1]]`.
+struct SortedChunk {
+    start: Vec<usize>,
+    contributions: Vec<(u32, u32)>,
 }
 
 /// log2 of the nodes per block of [`FaceNormals::nodal_sums`] (a block's sums and counts,
@@ -265,12 +337,14 @@ pub fn face_unit_normals(
 
 /// Computes the unit normals of the conditions of `part` (all conditions when `None`) and
 /// of their nodes: condition normals go to [`ModelPart::condition_normals`], nodal normals to
-/// the historical variable `NORMAL` (current step), which is added if needed.
+/// the historical variable `NORMAL` (current step), which is added if needed. Returns the
+/// faces' own normals ([`face_unit_normals`] of the part's conditions), for callers that need
+/// them again on the same coordinates ([`FaceNormals::subset`]).
 pub fn compute_unit_normals(
     model: &mut ModelPart,
     part: Option<PartIdx>,
     mode: NormalsMode,
-) -> Result<(), Error> {
+) -> Result<FaceNormals, Error> {
     let conditions = conditions_of(model, part);
     model.nodal_data_mut().add_vector(VectorVar::Normal);
     let n_nodes = model.nodes().len();
@@ -345,7 +419,7 @@ pub fn compute_unit_normals(
             };
         }
     }
-    Ok(())
+    Ok(faces)
 }
 
 /// The nodal `NORMAL`s that [`compute_unit_normals`] wrote on a part, kept to be written again

@@ -128,11 +128,9 @@ fn only_the_given_part_is_computed() {
     assert_close(&nodal(&mp)[4], [0., 0., 0.]);
 }
 
-#[test]
-fn nodal_sums_are_the_serial_sums_for_any_thread_count() {
-    // A bumpy 100×100 grid of triangles and quadrilaterals (more nodes than one block of
-    // the blocked sums); node ids scrambled so that a face's nodes fall into different blocks.
-    let n = 101;
+/// A bumpy `n`×`n`-node grid of triangles and quadrilaterals, node ids scrambled so that a
+/// face's nodes fall into different blocks of the blocked sums.
+fn bumpy_grid(n: usize) -> ModelPart {
     let id = |i: usize, j: usize| ((i * n + j) * 37 % (n * n)) as u32 + 1;
     let mut pts = vec![[0.0; 3]; n * n];
     for i in 0..n {
@@ -154,9 +152,21 @@ fn nodal_sums_are_the_serial_sums_for_any_thread_count() {
         }
     }
     let refs: Vec<(GeometryKind, &[u32])> = faces.iter().map(|(k, v)| (*k, &v[..])).collect();
-    let mp = model(&pts, &refs);
-    let all: Vec<ConditionIdx> = (0..refs.len() as u32).map(ConditionIdx).collect();
-    let table = face_unit_normals(&mp, &all).unwrap();
+    model(&pts, &refs)
+}
+
+fn all_conditions(mp: &ModelPart) -> Vec<ConditionIdx> {
+    (0..mp.conditions().len() as u32)
+        .map(ConditionIdx)
+        .collect()
+}
+
+#[test]
+fn nodal_sums_are_the_serial_sums_for_any_thread_count() {
+    // More nodes than one block of the blocked sums.
+    let n = 101;
+    let mp = bumpy_grid(n);
+    let table = face_unit_normals(&mp, &all_conditions(&mp)).unwrap();
     let mut serial = (vec![Vector::zeros(); n * n], vec![0u32; n * n]);
     for face in table.iter() {
         for (k, node) in mp
@@ -177,5 +187,43 @@ fn nodal_sums_are_the_serial_sums_for_any_thread_count() {
             .unwrap();
         let sums = pool.install(|| table.nodal_sums(&mp));
         assert_eq!(sums, serial, "{threads} threads");
+        // Many chunks of faces, of sizes that do not divide the face count.
+        for faces in [1, 7, 1000] {
+            let sums = pool.install(|| table.nodal_sums_in_chunks(&mp, faces));
+            assert_eq!(sums, serial, "{threads} threads, chunks of {faces} faces");
+        }
     }
+}
+
+#[test]
+fn a_subset_of_the_table_is_the_table_of_the_subset() {
+    let mut mp = bumpy_grid(12);
+    // A 2D solid (not a face) among the conditions: skipped by both.
+    mp.add_condition(
+        ConditionId(10_000),
+        GeometryKind::Triangle2D3,
+        "",
+        &[NodeId(1), NodeId(2), NodeId(3)],
+        PropertiesId(0),
+    )
+    .unwrap();
+    let all = all_conditions(&mp);
+    let table = face_unit_normals(&mp, &all).unwrap();
+    assert_eq!(table.subset(&mp, &all), Some(table.clone()));
+    // Every third condition, backwards (quadrilaterals, with their nodal normals, and
+    // triangles), and the solid.
+    let some: Vec<ConditionIdx> = all.iter().rev().step_by(3).copied().collect();
+    assert!(some.contains(all.last().unwrap()));
+    let fresh = face_unit_normals(&mp, &some).unwrap();
+    assert!(fresh.len() > 10 && fresh.len() < table.len());
+    assert_eq!(table.subset(&mp, &some), Some(fresh));
+    assert_eq!(table.subset(&mp, &[]), Some(FaceNormals::default()));
+    // A face the table does not have.
+    let part = face_unit_normals(&mp, &some).unwrap();
+    assert_eq!(part.subset(&mp, &all), None);
+    // compute_unit_normals returns the table of its part's conditions.
+    assert_eq!(
+        compute_unit_normals(&mut mp, None, NormalsMode::Kratos).unwrap(),
+        table
+    );
 }

@@ -7,8 +7,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use csm_geometry::math::{EPS, Point, Real, Vector};
 use csm_geometry::{Geometry, Kdop18};
 use csm_model::{
-    ConditionId, ConditionIdx, Flag, ModelPart, NodalHMode, NodeIdx, NormalsMode, PartIdx,
-    ScalarVar, UnitNormalsSnapshot, VectorVar, assign_nodal_h, compute_unit_normals,
+    ConditionId, ConditionIdx, FaceNormals, Flag, ModelPart, NodalHMode, NodeIdx, NormalsMode,
+    PartIdx, ScalarVar, UnitNormalsSnapshot, VectorVar, assign_nodal_h, compute_unit_normals,
 };
 use csm_trees::KdTree;
 use rayon::prelude::*;
@@ -418,7 +418,8 @@ impl ContactSearch {
             Compatibility::Kratos => NormalsMode::Kratos,
             Compatibility::Robust => NormalsMode::Once,
         };
-        compute_unit_normals(model, Some(pair.sub), normals_mode).map_err(model_error)?;
+        let face_normals =
+            compute_unit_normals(model, Some(pair.sub), normals_mode).map_err(model_error)?;
         let max_paired = pair.paired.iter().map(|pc| pc.id.get()).max().unwrap_or(0);
         let condition_id = model.conditions().max_id().max(max_paired);
         let distance_threshold = if p.simple_search {
@@ -444,7 +445,14 @@ impl ContactSearch {
             let master_id = ConditionId(model.conditions().ids()[m.index()]);
             model.index_map_mut(s).add_id(master_id);
         }
-        check_pairing(model, pair, &p, pair_plan, run, None, condition_id)?;
+        check_pairing(
+            model,
+            pair,
+            (&p, pair_plan),
+            run,
+            (None, face_normals),
+            condition_id,
+        )?;
         self.reset_marker(model);
         Ok(self.result(model))
     }
@@ -813,7 +821,8 @@ fn update_mortar_conditions(
         Compatibility::Kratos => NormalsMode::Kratos,
         Compatibility::Robust => NormalsMode::Once,
     };
-    compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
+    // The faces' own normals are kept for the mapping: nothing moves the nodes before it.
+    let face_normals = compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
     crate::trace::mark("unit normals");
     // 3. The running id of created pairs: after the largest condition id of the root (the
     // paired conditions of earlier steps included).
@@ -888,7 +897,14 @@ fn update_mortar_conditions(
     // gives NORMAL_GAP, then the paired conditions, the weighted gap and the activation.
     if p.check_gap == CheckGap::MappingCheck {
         let restore = if moved { delta.as_deref() } else { None };
-        let warnings = check_pairing(model, pair, &p, plan, run, restore, condition_id)?;
+        let warnings = check_pairing(
+            model,
+            pair,
+            (&p, plan),
+            run,
+            (restore, face_normals),
+            condition_id,
+        )?;
         run_warnings.extend(warnings);
         return Ok(run_warnings);
     }
@@ -909,13 +925,15 @@ fn update_mortar_conditions(
 /// CreateAuxiliaryConditions for the surviving new entries; ComputeWeightedReaction;
 /// ComputeActiveInactiveNodes (with the multiplier guesses and, for frictional contact — a
 /// SLIP root model part — the SLIP rule). Returns the activation's warnings.
+///
+/// `face_normals`: the unit normals of the sub's faces on the current coordinates (the step's
+/// [`compute_unit_normals`]), which the mapping's mean normals take instead of computing them.
 fn check_pairing(
     model: &mut ModelPart,
     pair: &mut PairSearch,
-    p: &SearchParameters,
-    plan: &PairPlan,
+    (p, plan): (&SearchParameters, &PairPlan),
     run: RunMode,
-    restore: Option<&[Vector]>,
+    (restore, face_normals): (Option<&[Vector]>, FaceNormals),
     condition_id: u32,
 ) -> Result<Vec<String>, Error> {
     let RunMode {
@@ -961,13 +979,19 @@ fn check_pairing(
         plan.weighted_gap.is_used() && model.nodal_data().has_scalar(ScalarVar::WeightedGap);
     let (report, known_gaps) = match &unit_normals {
         Some(kept) if weighted_gap => {
-            let (report, known) =
-                act::normal_gap_process_keeping(model, sub, &settings, kept.nodal())
-                    .map_err(activation_error)?;
+            let (report, known) = act::normal_gap_process_keeping(
+                model,
+                sub,
+                &settings,
+                Some(face_normals),
+                kept.nodal(),
+            )
+            .map_err(activation_error)?;
             (report, Some(known))
         }
         _ => (
-            act::normal_gap_process(model, sub, &settings).map_err(activation_error)?,
+            act::normal_gap_process(model, sub, &settings, Some(face_normals))
+                .map_err(activation_error)?,
             None,
         ),
     };
@@ -997,7 +1021,7 @@ fn check_pairing(
     };
     match unit_normals {
         Some(kept) => kept.restore(model),
-        None => compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?,
+        None => drop(compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?),
     }
     crate::trace::mark("unit normals");
     // CreateAuxiliaryConditions: slave side, entries without a paired condition.

@@ -508,18 +508,20 @@ impl MarkerBackup {
 }
 
 fn compute_normals(model: &mut ModelPart) -> Result<(), Error> {
-    compute_unit_normals(model, None, NormalsMode::Kratos).map_err(|e| match e.kind() {
-        csm_model::ErrorKind::Geometry {
-            entity: EntityKind::Condition,
-            id,
-            source,
-        } => ErrorKind::Geometry {
-            condition: *id,
-            message: source.to_string(),
-        }
-        .into(),
-        _ => ErrorKind::Model(e.to_string()).into(),
-    })
+    compute_unit_normals(model, None, NormalsMode::Kratos)
+        .map(drop)
+        .map_err(|e| match e.kind() {
+            csm_model::ErrorKind::Geometry {
+                entity: EntityKind::Condition,
+                id,
+                source,
+            } => ErrorKind::Geometry {
+                condition: *id,
+                message: source.to_string(),
+            }
+            .into(),
+            _ => ErrorKind::Model(e.to_string()).into(),
+        })
 }
 
 fn element_error(model: &ModelPart, e: usize, err: csm_geometry::Error) -> Error {
