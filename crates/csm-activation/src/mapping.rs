@@ -8,7 +8,8 @@ use csm_geometry::{
 };
 use csm_geometry::{Geometry, MAX_FACE_NODES, MAX_MORTAR_FACE_NODES};
 use csm_model::{
-    ConditionId, ConditionIdx, FaceNormals, Flag, ModelPart, NodeIdx, PartIdx, ScalarVar, VectorVar,
+    ConditionId, ConditionIdx, FaceNormals, Flag, GATHER_BLOCK, GatheredPoints, ModelPart, NodeIdx,
+    PartIdx, ScalarVar, VectorVar,
 };
 
 use rayon::prelude::*;
@@ -452,15 +453,18 @@ fn normal_gap_process_inner(
     let areas: Vec<Result<Real, Error>> = all
         .par_chunks(CONDITIONS_PER_TASK)
         .map(|chunk| {
-            let mut points = Vec::new();
+            let mut gathered = GatheredPoints::default();
             let mut largest: Real = 0.0;
-            for &c in chunk {
-                let id = m.conditions().ids()[c.index()];
-                m.gather_points(m.conditions().nodes(c.index()), &mut points);
-                let a = Geometry::new(m.conditions().kind(c.index()), &points)
-                    .and_then(|g| g.area())
-                    .map_err(|e| Error::condition("area", id, &e))?;
-                largest = largest.max(a);
+            for block in chunk.chunks(GATHER_BLOCK) {
+                gathered.gather(m, m.conditions(), block.iter().map(|c| c.index()));
+                for (k, &c) in block.iter().enumerate() {
+                    let a = Geometry::new(m.conditions().kind(c.index()), gathered.points(k))
+                        .and_then(|g| g.area())
+                        .map_err(|e| {
+                            Error::condition("area", m.conditions().ids()[c.index()], &e)
+                        })?;
+                    largest = largest.max(a);
+                }
             }
             Ok(largest)
         })

@@ -39,7 +39,7 @@ pub use ids::{
     ConditionId, ConditionIdx, ElementId, ElementIdx, NodeId, NodeIdx, PartIdx, PropertiesId,
 };
 pub use index_map::IndexMap;
-pub use model_part::ModelPart;
+pub use model_part::{GATHER_BLOCK, GatheredPoints, ModelPart};
 pub use nodal_data::{NodalData, ScalarVar, VectorVar};
 pub use nodal_h::{NodalHMode, assign_nodal_h, compute_nodal_h};
 pub use normals::{

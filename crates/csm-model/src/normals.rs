@@ -14,11 +14,11 @@
 //! an error here; Kratos produces NaN or raises for INTERFACE nodes.
 
 use csm_geometry::Geometry;
-use csm_geometry::math::{EPS, Point, Vector};
+use csm_geometry::math::{EPS, Vector};
 use rayon::prelude::*;
 
 use crate::error::{EntityKind, Error, ErrorKind};
-use crate::{ConditionIdx, Flag, ModelPart, PartIdx, VectorVar};
+use crate::{ConditionIdx, Flag, GATHER_BLOCK, GatheredPoints, ModelPart, PartIdx, VectorVar};
 
 /// How nodal normals are normalised.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -235,6 +235,9 @@ impl FaceNormals {
         }
         let kinds = model.conditions();
         let mut table = FaceNormals::default();
+        table.conditions.reserve(conditions.len());
+        table.centres.reserve(conditions.len());
+        table.ends.reserve(conditions.len());
         let mut end = 0u32;
         for &c in conditions {
             if !kinds.kind(c.index()).is_face() {
@@ -303,16 +306,20 @@ pub fn face_unit_normals(
         .zip(ends.par_chunks_mut(FACES_PER_TASK))
         .map(|((faces, centres), counts)| {
             let mut nodes = Vec::new();
-            let mut points = Vec::<Point>::new();
-            for ((&c, centre), count) in faces.iter().zip(centres).zip(counts) {
-                model.gather_points(model.conditions().nodes(c.index()), &mut points);
-                let normals = Geometry::new(kinds.kind(c.index()), &points)
-                    .and_then(|g| g.face_unit_normals())
-                    .map_err(|e| geometry_error(c, model, e))?;
-                *centre = normals.centre;
-                if !normals.is_uniform() {
-                    nodes.extend_from_slice(normals.nodes());
-                    *count = normals.nodes().len() as u32;
+            let mut gathered = GatheredPoints::default();
+            for ((faces, centres), counts) in faces
+                .chunks(GATHER_BLOCK)
+                .zip(centres.chunks_mut(GATHER_BLOCK))
+                .zip(counts.chunks_mut(GATHER_BLOCK))
+            {
+                gathered.gather(model, kinds, faces.iter().map(|c| c.index()));
+                for (k, ((&c, centre), count)) in faces.iter().zip(centres).zip(counts).enumerate()
+                {
+                    let before = nodes.len();
+                    *centre = Geometry::new(kinds.kind(c.index()), gathered.points(k))
+                        .and_then(|g| g.face_unit_normals_into(&mut nodes))
+                        .map_err(|e| geometry_error(c, model, e))?;
+                    *count = (nodes.len() - before) as u32;
                 }
             }
             Ok(nodes)

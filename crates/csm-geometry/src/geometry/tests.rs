@@ -392,6 +392,19 @@ fn face_unit_normals_equal_the_per_point_normals_bit_for_bit() {
         assert_eq!(g.centre_unit_normal().unwrap(), at(&g.center()), "{kind:?}");
         let expected: Vec<Vector> = points.iter().map(at).collect();
         assert_eq!(normals.nodes(), &expected[..], "{kind:?}");
+        // Without the table: the nodal normals appended only where they can differ.
+        let mut nodal = vec![Vector::x()];
+        assert_eq!(
+            g.face_unit_normals_into(&mut nodal).unwrap(),
+            normals.centre
+        );
+        let appended = if normals.is_uniform() {
+            &[][..]
+        } else {
+            normals.nodes()
+        };
+        assert_eq!(&nodal[1..], appended, "{kind:?}");
+        assert_eq!(normals.is_uniform(), nodal.len() == 1, "{kind:?}");
     }
     let tet = [
         p(0.0, 0.0, 0.0),
@@ -404,6 +417,12 @@ fn face_unit_normals_equal_the_per_point_normals_bit_for_bit() {
         g.face_unit_normals().unwrap_err().kind(),
         ErrorKind::Unsupported(_)
     ));
+    let mut nodal = vec![Vector::x()];
+    assert!(matches!(
+        g.face_unit_normals_into(&mut nodal).unwrap_err().kind(),
+        ErrorKind::Unsupported(_)
+    ));
+    assert_eq!(nodal, [Vector::x()]);
     assert!(matches!(
         g.centre_unit_normal().unwrap_err().kind(),
         ErrorKind::Unsupported(_)

@@ -43,10 +43,7 @@ impl Geometry<'_> {
     /// very edge of degeneracy may pass one and fail the other.
     pub fn centre_unit_normal(&self) -> Result<Vector, Error> {
         let centre = self.center();
-        if matches!(
-            self.kind(),
-            crate::GeometryKind::Line2D2 | crate::GeometryKind::Triangle3D3
-        ) {
+        if self.is_affine_face() {
             if !crate::math::is_finite_point(&centre) {
                 return Err(Error::new(ErrorKind::NonFinite));
             }
@@ -117,40 +114,64 @@ impl Geometry<'_> {
     /// [`point_local_coordinates`](Self::point_local_coordinates); [`ErrorKind::Unsupported`]
     /// for solids.
     pub fn face_unit_normals(&self) -> Result<FaceUnitNormals, Error> {
+        let mut nodes = [Vector::zeros(); MAX_FACE_NODES];
+        let centre = self.face_unit_normals_with(|k, normal| nodes[k] = normal)?;
+        let affine = self.is_affine_face();
+        if affine {
+            for slot in &mut nodes[..self.points().len()] {
+                *slot = centre;
+            }
+        }
+        Ok(FaceUnitNormals {
+            centre,
+            nodes,
+            n_nodes: self.points().len(),
+            uniform: affine,
+        })
+    }
+
+    /// [`face_unit_normals`](Self::face_unit_normals) without its table: returns the normal at
+    /// the centre and appends those at the nodes to `nodal` only where the face is not affine
+    /// (where they can differ from the centre's).
+    pub fn face_unit_normals_into(&self, nodal: &mut Vec<Vector>) -> Result<Vector, Error> {
+        let start = nodal.len();
+        let result = self.face_unit_normals_with(|_, normal| nodal.push(normal));
+        if result.is_err() {
+            nodal.truncate(start);
+        }
+        result
+    }
+
+    /// Whether the face has one normal everywhere (a constant Jacobian: Line2D2, Triangle3D3).
+    fn is_affine_face(&self) -> bool {
+        matches!(
+            self.kind(),
+            crate::GeometryKind::Line2D2 | crate::GeometryKind::Triangle3D3
+        )
+    }
+
+    /// The centre normal of [`face_unit_normals`](Self::face_unit_normals); `node(k, normal)`
+    /// receives the nodal normals in node order, for non-affine faces only.
+    fn face_unit_normals_with(&self, mut node: impl FnMut(usize, Vector)) -> Result<Vector, Error> {
         let points = self.points();
         if !self.kind().is_face() || points.len() > MAX_FACE_NODES {
             return Err(Error::new(ErrorKind::Unsupported(
                 "unit normals of a non-face geometry",
             )));
         }
-        let affine = matches!(
-            self.kind(),
-            crate::GeometryKind::Line2D2 | crate::GeometryKind::Triangle3D3
-        );
-        // Several points on one face: the point-independent work of the local coordinates
-        // once (bit for bit the same local coordinates); affine kinds need none.
-        let solver = (!affine).then(|| super::LocalCoordinatesSolver::new(*self));
-        let at = |p: &Point| -> Result<Vector, Error> {
-            let local = match &solver {
-                Some(solver) => solver.local_coordinates(p)?,
-                None => self.point_local_coordinates(p)?,
-            };
-            self.unit_normal(&local)
-        };
-        let centre = if affine {
-            self.centre_unit_normal()?
-        } else {
-            at(&self.center())?
-        };
-        let mut nodes = [Vector::zeros(); MAX_FACE_NODES];
-        for (slot, p) in nodes.iter_mut().zip(points) {
-            *slot = if affine { centre } else { at(p)? };
+        if self.is_affine_face() {
+            return self.centre_unit_normal();
         }
-        Ok(FaceUnitNormals {
-            centre,
-            nodes,
-            n_nodes: points.len(),
-            uniform: affine,
-        })
+        // Several points on one face: the point-independent work of the local coordinates
+        // once (bit for bit the same local coordinates).
+        let solver = super::LocalCoordinatesSolver::new(*self);
+        let at = |p: &Point| -> Result<Vector, Error> {
+            self.unit_normal(&solver.local_coordinates(p)?)
+        };
+        let centre = at(&self.center())?;
+        for (k, p) in points.iter().enumerate() {
+            node(k, at(p)?);
+        }
+        Ok(centre)
     }
 }

@@ -71,19 +71,25 @@ impl<T: Send> PerMaster<T> {
         }
     }
 
-    /// `value(c)` for every master `c` of `masters`, computed in parallel; `n_conditions`
-    /// is the model's condition count.
+    /// `value(c, points)` for every master `c` of `model` in `masters` (`points`: its node
+    /// coordinates), computed in parallel.
     pub(crate) fn build(
-        n_conditions: usize,
+        model: &ModelPart,
         masters: &[ConditionIdx],
-        value: impl Fn(ConditionIdx) -> T + Sync,
+        value: impl Fn(ConditionIdx, &[Point]) -> T + Sync,
     ) -> PerMaster<T> {
         use rayon::prelude::*;
-        let mut slot = vec![u32::MAX; n_conditions];
+        let mut slot = vec![u32::MAX; model.conditions().len()];
         for (i, c) in masters.iter().enumerate() {
             slot[c.index()] = i as u32;
         }
-        let values = masters.par_iter().map(|&c| value(c)).collect();
+        let values = masters
+            .par_iter()
+            .map_init(Vec::new, |points, &c| {
+                model.gather_points(model.conditions().nodes(c.index()), points);
+                value(c, points)
+            })
+            .collect();
         PerMaster { slot, values }
     }
 

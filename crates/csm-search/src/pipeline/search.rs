@@ -1321,19 +1321,9 @@ fn kdtree_search(
     // them with build_from_bounding_box = true (Q4). Allocated only for the OBB test.
     let master_bfb = p.check_gap != CheckGap::MappingCheck || p.octree.build_from_bounding_box;
     let masters: Vec<ConditionIdx> = points.iter().map(|(c, _)| ConditionIdx(*c)).collect();
-    let gather = |c: ConditionIdx| -> Vec<Point> {
-        model
-            .conditions()
-            .nodes(c.index())
-            .iter()
-            .map(|n| model.nodes().coordinates()[n.index()])
-            .collect()
-    };
-    let n_conditions = model.conditions().len();
     let master_bvs = if with_obb {
-        PerMaster::build(n_conditions, &masters, |c| {
-            let pts = gather(c);
-            Geometry::new(model.conditions().kind(c.index()), &pts)
+        PerMaster::build(model, &masters, |c, points| {
+            Geometry::new(model.conditions().kind(c.index()), points)
                 .and_then(|g| Bv::build(&g, dim, bbf, master_bfb, compatibility))
         })
     } else {
@@ -1341,8 +1331,8 @@ fn kdtree_search(
     };
     crate::trace::mark("master boxes");
     let master_kdops = if with_kdop {
-        PerMaster::build(n_conditions, &masters, |c| {
-            Kdop18::from_points(&gather(c)).enlarged(bbf)
+        PerMaster::build(model, &masters, |_, points| {
+            Kdop18::from_points(points).enlarged(bbf)
         })
     } else {
         PerMaster::none()
