@@ -508,7 +508,9 @@ impl ContactSearch {
                 model.conditions_mut().flags_mut()[c.index()].set(Flag::ACTIVE, false);
             }
         }
-        Ok(self.result(model))
+        let result = self.result(model);
+        crate::trace::mark("result");
+        Ok(result)
     }
 
     /// Kratos' `ExecuteFinalizeSolutionStep`: clears the pairs of the pairs searched this
