@@ -8,8 +8,8 @@ use csm_geometry::{
 };
 use csm_geometry::{Geometry, MAX_FACE_NODES, MAX_MORTAR_FACE_NODES};
 use csm_model::{
-    ConditionId, ConditionIdx, FaceNormals, Flag, GATHER_BLOCK, GatheredPoints, ModelPart, NodeIdx,
-    PartIdx, ScalarVar, VectorVar,
+    ConditionId, ConditionIdx, Flag, GATHER_BLOCK, GatheredPoints, KeptFaceNormals, ModelPart,
+    NodeIdx, PartIdx, ScalarVar, VectorVar,
 };
 
 use rayon::prelude::*;
@@ -177,11 +177,11 @@ pub(crate) fn make_face<'a>(
 /// conditions, condition normal := unit normal at the centre, every node accumulates the unit
 /// normal at its own local coordinates, then one normalisation (norm > eps).
 /// `known`: the faces' unit normals on the current coordinates, where the caller has them
-/// ([`FaceNormals::subset`]; computed here otherwise).
+/// ([`KeptFaceNormals::subset`]; computed here otherwise).
 pub(crate) fn mean_normals(
     model: &mut ModelPart,
     conditions: &[ConditionIdx],
-    known: Option<&FaceNormals>,
+    known: Option<&KeptFaceNormals>,
 ) -> Result<(), Error> {
     model.nodal_data_mut().add_vector(VectorVar::Normal);
     let faces = match known.and_then(|table| table.subset(model, conditions)) {
@@ -355,15 +355,15 @@ fn slave_gap_data(
 ///    where `|AUX| > eps` (else the sentinel stays, Q39); the other side's nodes get 0.
 ///
 /// `face_normals`: where the caller has them, the unit normals of the faces of `sub` on the
-/// current coordinates (the table [`csm_model::compute_unit_normals`] returns), which step 2
-/// then does not compute again; `None` computes them.
+/// current coordinates (the table [`csm_model::compute_unit_normals`] returns, kept), which
+/// step 2 then does not compute again; `None` computes them.
 ///
 /// Errors: a face the mortar routines refuse (unsupported kind, degenerate geometry).
 pub fn normal_gap_process(
     model: &mut ModelPart,
     sub: PartIdx,
     settings: &MappingSettings,
-    face_normals: Option<FaceNormals>,
+    face_normals: Option<KeptFaceNormals>,
 ) -> Result<MappingReport, Error> {
     normal_gap_process_inner(model, sub, settings, face_normals, None).map(|(report, _)| report)
 }
@@ -378,7 +378,7 @@ pub fn normal_gap_process_keeping(
     model: &mut ModelPart,
     sub: PartIdx,
     settings: &MappingSettings,
-    face_normals: Option<FaceNormals>,
+    face_normals: Option<KeptFaceNormals>,
     unit_normals: &[Vector],
 ) -> Result<(MappingReport, KnownGaps), Error> {
     let inputs = WeightedGapInputs {
@@ -392,7 +392,7 @@ fn normal_gap_process_inner(
     model: &mut ModelPart,
     sub: PartIdx,
     settings: &MappingSettings,
-    face_normals: Option<FaceNormals>,
+    face_normals: Option<KeptFaceNormals>,
     weighted_gap: Option<WeightedGapInputs<'_>>,
 ) -> Result<(MappingReport, KnownGaps), Error> {
     let o = !settings.inverted;

@@ -43,8 +43,8 @@ pub use model_part::{GATHER_BLOCK, GatheredPoints, ModelPart};
 pub use nodal_data::{NodalData, ScalarVar, VectorVar};
 pub use nodal_h::{NodalHMode, assign_nodal_h, compute_nodal_h};
 pub use normals::{
-    FaceNormals, FaceNormalsRef, NormalsMode, UnitNormalsSnapshot, compute_unit_normals,
-    face_unit_normals,
+    FaceNormals, FaceNormalsRef, KeptFaceNormals, NormalsMode, UnitNormalsSnapshot,
+    compute_unit_normals, face_unit_normals,
 };
 pub use parts::SubModelPart;
 pub use process_info::ProcessInfo;

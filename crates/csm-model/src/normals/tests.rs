@@ -209,21 +209,31 @@ fn a_subset_of_the_table_is_the_table_of_the_subset() {
     .unwrap();
     let all = all_conditions(&mp);
     let table = face_unit_normals(&mp, &all).unwrap();
-    assert_eq!(table.subset(&mp, &all), Some(table.clone()));
+    // compute_unit_normals returns the table of its part's conditions (and writes their
+    // centre normals as the condition normals, where the kept table reads them).
+    let computed = compute_unit_normals(&mut mp, None, NormalsMode::Kratos).unwrap();
+    assert_eq!(computed, table);
+    let kept = computed.keep();
+    assert_eq!(kept.subset(&mp, &all), Some(table.clone()));
     // Every third condition, backwards (quadrilaterals, with their nodal normals, and
     // triangles), and the solid.
     let some: Vec<ConditionIdx> = all.iter().rev().step_by(3).copied().collect();
     assert!(some.contains(all.last().unwrap()));
     let fresh = face_unit_normals(&mp, &some).unwrap();
     assert!(fresh.len() > 10 && fresh.len() < table.len());
-    assert_eq!(table.subset(&mp, &some), Some(fresh));
-    assert_eq!(table.subset(&mp, &[]), Some(FaceNormals::default()));
-    // A face the table does not have.
-    let part = face_unit_normals(&mp, &some).unwrap();
+    assert_eq!(kept.subset(&mp, &some), Some(fresh.clone()));
+    assert_eq!(kept.subset(&mp, &[]), Some(FaceNormals::default()));
+    // A face the kept table does not have.
+    let part = face_unit_normals(&mp, &some).unwrap().keep();
     assert_eq!(part.subset(&mp, &all), None);
-    // compute_unit_normals returns the table of its part's conditions.
-    assert_eq!(
-        compute_unit_normals(&mut mp, None, NormalsMode::Kratos).unwrap(),
-        table
-    );
+    assert_eq!(part.subset(&mp, &some), Some(fresh));
+    // Condition normals that are no longer the kept centre normals (one last bit) or that
+    // the model no longer has.
+    let c = some[1];
+    let n = mp.condition_normals()[c.index()];
+    mp.condition_normals_mut()[c.index()].x = f64::from_bits(n.x.to_bits() ^ 1);
+    assert_eq!(kept.subset(&mp, &all), None);
+    mp.condition_normals_mut()[c.index()] = n;
+    assert_eq!(kept.subset(&mp, &all), Some(table));
+    assert_eq!(kept.subset(&model(&[], &[]), &[]), None);
 }

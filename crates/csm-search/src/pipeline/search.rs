@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use csm_geometry::math::{EPS, Point, Real, Vector};
 use csm_geometry::{Geometry, Kdop18};
 use csm_model::{
-    ConditionId, ConditionIdx, FaceNormals, Flag, ModelPart, NodalHMode, NodeIdx, NormalsMode,
+    ConditionId, ConditionIdx, Flag, KeptFaceNormals, ModelPart, NodalHMode, NodeIdx, NormalsMode,
     PartIdx, ScalarVar, UnitNormalsSnapshot, VectorVar, assign_nodal_h, compute_unit_normals,
 };
 use csm_trees::KdTree;
@@ -418,8 +418,9 @@ impl ContactSearch {
             Compatibility::Kratos => NormalsMode::Kratos,
             Compatibility::Robust => NormalsMode::Once,
         };
-        let face_normals =
-            compute_unit_normals(model, Some(pair.sub), normals_mode).map_err(model_error)?;
+        let face_normals = compute_unit_normals(model, Some(pair.sub), normals_mode)
+            .map_err(model_error)?
+            .keep();
         let max_paired = pair.paired.iter().map(|pc| pc.id.get()).max().unwrap_or(0);
         let condition_id = model.conditions().max_id().max(max_paired);
         let distance_threshold = if p.simple_search {
@@ -824,7 +825,9 @@ fn update_mortar_conditions(
         Compatibility::Robust => NormalsMode::Once,
     };
     // The faces' own normals are kept for the mapping: nothing moves the nodes before it.
-    let face_normals = compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
+    let face_normals = compute_unit_normals(model, Some(sub), normals_mode)
+        .map_err(model_error)?
+        .keep();
     crate::trace::mark("unit normals");
     // 3. The running id of created pairs: after the largest condition id of the root (the
     // paired conditions of earlier steps included).
@@ -935,7 +938,7 @@ fn check_pairing(
     pair: &mut PairSearch,
     (p, plan): (&SearchParameters, &PairPlan),
     run: RunMode,
-    (restore, face_normals): (Option<&[Vector]>, FaceNormals),
+    (restore, face_normals): (Option<&[Vector]>, KeptFaceNormals),
     condition_id: u32,
 ) -> Result<Vec<String>, Error> {
     let RunMode {
