@@ -456,7 +456,7 @@ fn normal_gap_process_inner(
             let mut gathered = GatheredPoints::default();
             let mut largest: Real = 0.0;
             for block in chunk.chunks(GATHER_BLOCK) {
-                gathered.gather(m, m.conditions(), block.iter().map(|c| c.index()));
+                gathered.gather(m, block.iter().copied());
                 for (k, &c) in block.iter().enumerate() {
                     let a = Geometry::new(m.conditions().kind(c.index()), gathered.points(k))
                         .and_then(|g| g.area())

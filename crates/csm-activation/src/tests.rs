@@ -417,3 +417,46 @@ fn slip_rule_marks_frictionless_activated_nodes_slip() {
         .unwrap()[1];
     assert!(lm.z.abs() > 0.0 && lm.x == 0.0 && lm.y == 0.0, "{lm:?}");
 }
+
+/// The mapping with the step's kept face normals ([`csm_model::FaceNormals::keep`]) does what
+/// it does computing them itself, bit for bit (report, NORMAL_GAP, NODAL_AREA,
+/// AUXILIAR_COORDINATES, nodal and condition normals), on warped quadrilaterals (their nodal
+/// normals differ from the centre's); a kept table whose condition normals changed since is
+/// not used.
+#[test]
+fn kept_face_normals_map_as_computed_ones() {
+    let (mut base, sub) = scene(0.01);
+    for (node, dz) in [(2, 0.05), (6, -0.03), (7, 0.02)] {
+        base.nodes_mut().coordinates_mut()[node].z += dz;
+    }
+    let state = |m: &ModelPart| {
+        let data = m.nodal_data();
+        (
+            data.scalar(ScalarVar::NormalGap, 0).unwrap().to_vec(),
+            data.scalar(ScalarVar::NodalArea, 0).unwrap().to_vec(),
+            data.vector(VectorVar::AuxiliarCoordinates, 0)
+                .unwrap()
+                .to_vec(),
+            data.vector(VectorVar::Normal, 0).unwrap().to_vec(),
+            m.condition_normals().to_vec(),
+        )
+    };
+    for changed in [false, true] {
+        let mut with = base.clone();
+        let kept = compute_unit_normals(&mut with, Some(sub), csm_model::NormalsMode::Once)
+            .unwrap()
+            .keep();
+        if changed {
+            with.condition_normals_mut()[0].y += 1e-3;
+        }
+        let mut without = with.clone();
+        let a = normal_gap_process(&mut with, sub, &settings(), Some(kept)).unwrap();
+        let b = normal_gap_process(&mut without, sub, &settings(), None).unwrap();
+        assert_eq!(a, b, "changed: {changed}");
+        assert_eq!(a.kept, 1);
+        assert_eq!(state(&with), state(&without), "changed: {changed}");
+        // The warped faces' nodal mean normals are not all the centre normal.
+        let normals = state(&with).3;
+        assert!(normals[0] != normals[2], "{normals:?}");
+    }
+}

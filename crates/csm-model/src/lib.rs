@@ -21,6 +21,7 @@
 mod entities;
 mod error;
 mod flags;
+mod gathered_points;
 mod ids;
 mod index_map;
 mod model_part;
@@ -35,11 +36,12 @@ mod time_step;
 pub use entities::{Entities, Nodes};
 pub use error::{EntityKind, Error, ErrorKind};
 pub use flags::{Flag, Flags};
+pub use gathered_points::{GATHER_BLOCK, GatheredPoints};
 pub use ids::{
     ConditionId, ConditionIdx, ElementId, ElementIdx, NodeId, NodeIdx, PartIdx, PropertiesId,
 };
 pub use index_map::IndexMap;
-pub use model_part::{GATHER_BLOCK, GatheredPoints, ModelPart};
+pub use model_part::ModelPart;
 pub use nodal_data::{NodalData, ScalarVar, VectorVar};
 pub use nodal_h::{NodalHMode, assign_nodal_h, compute_nodal_h};
 pub use normals::{

@@ -391,59 +391,6 @@ impl ModelPart {
     }
 }
 
-/// Entities per [`GatheredPoints::gather`] that a per-entity loop over a large mesh gathers at a
-/// time.
-pub const GATHER_BLOCK: usize = 64;
-
-/// The node coordinates of a run of entities, gathered in one tight loop before they are used.
-///
-/// The coordinates of a large mesh are not in cache: gathered inside a long per-entity
-/// computation, each entity's loads wait on their own, whereas a tight loop over many entities
-/// overlaps them. A per-entity loop therefore gathers [`GATHER_BLOCK`] entities, then works
-/// on their points.
-#[derive(Debug, Clone, Default)]
-pub struct GatheredPoints {
-    points: Vec<Point>,
-    /// Per entity, the end of its points (the start is the previous end).
-    ends: Vec<usize>,
-}
-
-impl GatheredPoints {
-    /// Gathers the node coordinates of the entities `indices` of `entities` (the model's
-    /// elements or conditions), replacing the previous ones.
-    pub fn gather(
-        &mut self,
-        model: &ModelPart,
-        entities: &Entities,
-        indices: impl IntoIterator<Item = usize>,
-    ) {
-        self.points.clear();
-        self.ends.clear();
-        let coordinates = &model.nodes.coordinates;
-        for i in indices {
-            self.points
-                .extend(entities.nodes(i).iter().map(|n| coordinates[n.index()]));
-            self.ends.push(self.points.len());
-        }
-    }
-
-    /// The number of entities gathered.
-    pub fn len(&self) -> usize {
-        self.ends.len()
-    }
-
-    /// Whether no entity was gathered.
-    pub fn is_empty(&self) -> bool {
-        self.ends.is_empty()
-    }
-
-    /// The node coordinates of the `k`-th entity gathered, in node order.
-    pub fn points(&self, k: usize) -> &[Point] {
-        let start = if k == 0 { 0 } else { self.ends[k - 1] };
-        &self.points[start..self.ends[k]]
-    }
-}
-
 /// Accepts `/` as a separator too; returns the `.`-separated form.
 fn normalize_path(path: &str) -> String {
     path.trim().replace('/', ".")

@@ -91,7 +91,8 @@ impl FaceNormals {
         self.conditions.is_empty()
     }
 
-    /// The faces, in the order they were given to [`face_unit_normals`].
+    /// The faces, in the order they were given to [`face_unit_normals`] (or to
+    /// [`KeptFaceNormals::subset`]).
     pub fn iter(&self) -> impl Iterator<Item = FaceNormalsRef<'_>> + '_ {
         (0..self.conditions.len()).map(move |i| {
             let start = self.nodes_start(i);
@@ -114,7 +115,11 @@ impl FaceNormals {
     /// its own small slice of the sums (in parallel). Every node receives its faces' normals in
     /// face order, as a serial loop adds them.
     pub fn nodal_sums(&self, model: &ModelPart) -> (Vec<Vector>, Vec<u32>) {
-        self.nodal_sums_in_chunks(model, FACES_PER_TASK)
+        // At most MAX_SUM_CHUNKS chunks: each has a start per node block, so that their
+        // number times the blocks' stays small on a large mesh (any chunk size gives the
+        // same sums).
+        let faces = FACES_PER_TASK.max(self.conditions.len().div_ceil(MAX_SUM_CHUNKS));
+        self.nodal_sums_in_chunks(model, faces)
     }
 
     /// [`FaceNormals::nodal_sums`] with the contributions sorted by chunks of
@@ -200,11 +205,7 @@ impl FaceNormals {
 
     /// The start of face `face`'s nodal normals in `nodes` (the previous face's end).
     fn nodes_start(&self, face: usize) -> usize {
-        if face == 0 {
-            0
-        } else {
-            self.ends[face - 1] as usize
-        }
+        nodes_start(&self.ends, face)
     }
 
     /// [`FaceNormals::nodal_sums`] as one serial loop over the faces (the reference the
@@ -226,7 +227,7 @@ impl FaceNormals {
     /// This table without its centre normals, kept for a later use on the same coordinates
     /// by a caller that set them as the condition normals ([`set_condition_normals`](
     /// Self::set_condition_normals); [`compute_unit_normals`] does): on a large triangle mesh
-    /// a sixth of the memory. [`KeptFaceNormals::subset`] reads the centre normals back.
+    /// a quarter of the memory. [`KeptFaceNormals::subset`] reads the centre normals back.
     pub fn keep(self) -> KeptFaceNormals {
         KeptFaceNormals {
             fingerprint: fingerprint(self.centres.iter()),
@@ -287,8 +288,7 @@ impl KeptFaceNormals {
                 continue;
             }
             let i = *position.get(c.index()).filter(|&&i| i != ABSENT)? as usize;
-            let start = if i == 0 { 0 } else { self.ends[i - 1] as usize };
-            let nodes = &self.nodes[start..self.ends[i] as usize];
+            let nodes = &self.nodes[nodes_start(&self.ends, i)..self.ends[i] as usize];
             table.conditions.push(c);
             table.centres.push(centres[c.index()]);
             table.nodes.extend_from_slice(nodes);
@@ -299,14 +299,28 @@ impl KeptFaceNormals {
     }
 }
 
-/// An FNV-1a hash of the bits of every component of `normals`, in order: tells whether the
-/// condition normals still hold a kept table's centre normals.
+/// The start of face `face`'s nodal normals in a table's nodal list, given the faces' ends
+/// (the previous face's end).
+fn nodes_start(ends: &[u32], face: usize) -> usize {
+    if face == 0 {
+        0
+    } else {
+        ends[face - 1] as usize
+    }
+}
+
+/// A 64-bit hash of the bits of every component of `normals`, in order (each word mixed in
+/// by the multiply-xorshift steps of SplitMix64's finaliser, so that every input bit reaches
+/// every output bit): tells whether the condition normals still hold a kept table's centre
+/// normals — a changed bit anywhere gives another hash but with a chance of about 2⁻⁶⁴.
 fn fingerprint<'a>(normals: impl Iterator<Item = &'a Vector>) -> u64 {
-    let mut hash = 0xCBF2_9CE4_8422_2325u64;
+    let mut hash = 0x9E37_79B9_7F4A_7C15u64;
     for n in normals {
         for c in n.iter() {
-            hash ^= c.to_bits();
-            hash = hash.wrapping_mul(0x0000_0100_0000_01B3);
+            let mut z = hash ^ c.to_bits();
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            hash = z ^ (z >> 31);
         }
     }
     hash
@@ -326,6 +340,9 @@ const NODE_BLOCK_BITS: u32 = 13;
 /// The top bit of a contribution's normal reference in [`FaceNormals::nodal_sums`]: set for
 /// an entry of the nodal table, clear for a face's centre normal.
 const NODAL_ENTRY: u32 = 1 << 31;
+
+/// The most chunks of faces [`FaceNormals::nodal_sums`] sorts its contributions in.
+const MAX_SUM_CHUNKS: usize = 64;
 
 /// Faces per parallel task of [`face_unit_normals`].
 const FACES_PER_TASK: usize = 4096;
@@ -360,7 +377,7 @@ pub fn face_unit_normals(
                 .zip(centres.chunks_mut(GATHER_BLOCK))
                 .zip(counts.chunks_mut(GATHER_BLOCK))
             {
-                gathered.gather(model, kinds, faces.iter().map(|c| c.index()));
+                gathered.gather(model, faces.iter().copied());
                 for (k, ((&c, centre), count)) in faces.iter().zip(centres).zip(counts).enumerate()
                 {
                     let before = nodes.len();

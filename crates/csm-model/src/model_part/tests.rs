@@ -162,31 +162,3 @@ fn renumbering_and_permuting_conditions() {
         "wrong length"
     );
 }
-
-#[test]
-fn gathered_points_are_each_entitys_points_in_order() {
-    let mut mp = square();
-    let kinds = [
-        (GeometryKind::Quadrilateral3D4, &[10, 11, 12, 13][..]),
-        (GeometryKind::Triangle3D3, &[12, 10, 13][..]),
-        (GeometryKind::Line2D2, &[13, 11][..]),
-    ];
-    for (i, (kind, nodes)) in kinds.iter().enumerate() {
-        let ids: Vec<NodeId> = nodes.iter().map(|&n| NodeId(n)).collect();
-        mp.add_condition(ConditionId(i as u32 + 1), *kind, "", &ids, PropertiesId(0))
-            .unwrap();
-    }
-    let mut gathered = GatheredPoints::default();
-    assert!(gathered.is_empty());
-    for order in [vec![0, 1, 2], vec![2, 0], vec![1, 1]] {
-        gathered.gather(&mp, mp.conditions(), order.iter().copied());
-        assert_eq!(gathered.len(), order.len());
-        for (k, &c) in order.iter().enumerate() {
-            let mut one = Vec::new();
-            mp.gather_points(mp.conditions().nodes(c), &mut one);
-            assert_eq!(gathered.points(k), &one[..], "{order:?}, entity {k}");
-        }
-    }
-    gathered.gather(&mp, mp.conditions(), []);
-    assert!(gathered.is_empty());
-}

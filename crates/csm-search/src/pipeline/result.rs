@@ -160,7 +160,7 @@ impl serde::Serialize for ResultJson<'_> {
                         &self,
                         serializer: S,
                     ) -> Result<S::Ok, S::Error> {
-                        serializer.collect_map(self.0.iter().map(|(s, m)| (s.to_string(), m)))
+                        serializer.collect_map(self.0)
                     }
                 }
                 serializer.collect_map(self.0.iter().map(|(k, v)| (k, Slaves(v))))
@@ -184,7 +184,7 @@ impl serde::Serialize for ResultJson<'_> {
                         m.end()
                     }
                 }
-                serializer.collect_map(self.0.iter().map(|(id, n)| (id.to_string(), Node(*n))))
+                serializer.collect_map(self.0.iter().map(|(id, n)| (id, Node(*n))))
             }
         }
         struct Timings<'a>(&'a [(&'a str, f64)]);

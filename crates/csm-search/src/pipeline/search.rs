@@ -446,14 +446,14 @@ impl ContactSearch {
             let master_id = ConditionId(model.conditions().ids()[m.index()]);
             model.index_map_mut(s).add_id(master_id);
         }
-        check_pairing(
-            model,
-            pair,
-            (&p, pair_plan),
-            run,
-            (None, face_normals),
+        let step = PairingStep {
+            params: &p,
+            plan: pair_plan,
+            restore: None,
+            face_normals: Some(face_normals),
             condition_id,
-        )?;
+        };
+        check_pairing(model, pair, step, run)?;
         self.reset_marker(model);
         Ok(self.result(model))
     }
@@ -502,6 +502,8 @@ impl ContactSearch {
             }
             self.reset_marker(model);
         } else {
+            // (The stage trace starts here: no pair stage ran.)
+            crate::trace::start();
             for n in model.part(contact).nodes().to_vec() {
                 model.nodes_mut().flags_mut()[n.index()].set(Flag::ACTIVE, false);
             }
@@ -824,10 +826,10 @@ fn update_mortar_conditions(
         Compatibility::Kratos => NormalsMode::Kratos,
         Compatibility::Robust => NormalsMode::Once,
     };
-    // The faces' own normals are kept for the mapping: nothing moves the nodes before it.
-    let face_normals = compute_unit_normals(model, Some(sub), normals_mode)
-        .map_err(model_error)?
-        .keep();
+    // The faces' own normals are kept for MappingCheck's mapping: nothing moves the nodes or
+    // changes the condition normals before it.
+    let face_normals = compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
+    let face_normals = (p.check_gap == CheckGap::MappingCheck).then(|| face_normals.keep());
     crate::trace::mark("unit normals");
     // 3. The running id of created pairs: after the largest condition id of the root (the
     // paired conditions of earlier steps included).
@@ -902,14 +904,14 @@ fn update_mortar_conditions(
     // gives NORMAL_GAP, then the paired conditions, the weighted gap and the activation.
     if p.check_gap == CheckGap::MappingCheck {
         let restore = if moved { delta.as_deref() } else { None };
-        let warnings = check_pairing(
-            model,
-            pair,
-            (&p, plan),
-            run,
-            (restore, face_normals),
+        let step = PairingStep {
+            params: &p,
+            plan,
+            restore,
+            face_normals,
             condition_id,
-        )?;
+        };
+        let warnings = check_pairing(model, pair, step, run)?;
         run_warnings.extend(warnings);
         return Ok(run_warnings);
     }
@@ -919,6 +921,20 @@ fn update_mortar_conditions(
         shift_nodes(model, &sub_nodes, d, -1.0);
     }
     Ok(run_warnings)
+}
+
+/// What [`check_pairing`] works with besides the model, the pair and the run mode.
+struct PairingStep<'a> {
+    params: &'a SearchParameters,
+    plan: &'a PairPlan,
+    /// The dynamic shift to undo after the mapping, if the nodes were moved.
+    restore: Option<&'a [Vector]>,
+    /// The unit normals of the sub's faces on the current coordinates (the step's
+    /// [`compute_unit_normals`], kept), which the mapping's mean normals take instead of
+    /// computing them.
+    face_normals: Option<KeptFaceNormals>,
+    /// The id after which paired conditions are numbered.
+    condition_id: u32,
 }
 
 /// CheckPairing (§10.1) of MappingCheck, after the search filled the INDEX_MAPs: Advanced sets
@@ -931,16 +947,19 @@ fn update_mortar_conditions(
 /// ComputeActiveInactiveNodes (with the multiplier guesses and, for frictional contact — a
 /// SLIP root model part — the SLIP rule). Returns the activation's warnings.
 ///
-/// `face_normals`: the unit normals of the sub's faces on the current coordinates (the step's
-/// [`compute_unit_normals`]), which the mapping's mean normals take instead of computing them.
 fn check_pairing(
     model: &mut ModelPart,
     pair: &mut PairSearch,
-    (p, plan): (&SearchParameters, &PairPlan),
+    step: PairingStep<'_>,
     run: RunMode,
-    (restore, face_normals): (Option<&[Vector]>, KeptFaceNormals),
-    condition_id: u32,
 ) -> Result<Vec<String>, Error> {
+    let PairingStep {
+        params: p,
+        plan,
+        restore,
+        face_normals,
+        condition_id,
+    } = step;
     let RunMode {
         compatibility,
         frictional,
@@ -984,18 +1003,13 @@ fn check_pairing(
         plan.weighted_gap.is_used() && model.nodal_data().has_scalar(ScalarVar::WeightedGap);
     let (report, known_gaps) = match &unit_normals {
         Some(kept) if weighted_gap => {
-            let (report, known) = act::normal_gap_process_keeping(
-                model,
-                sub,
-                &settings,
-                Some(face_normals),
-                kept.nodal(),
-            )
-            .map_err(activation_error)?;
+            let (report, known) =
+                act::normal_gap_process_keeping(model, sub, &settings, face_normals, kept.nodal())
+                    .map_err(activation_error)?;
             (report, Some(known))
         }
         _ => (
-            act::normal_gap_process(model, sub, &settings, Some(face_normals))
+            act::normal_gap_process(model, sub, &settings, face_normals)
                 .map_err(activation_error)?,
             None,
         ),
