@@ -22,10 +22,10 @@ mod step_jump;
 
 pub(crate) use filters::passes_orientation;
 pub use result::{NodeResult, SearchResult, StepResult};
-#[cfg(test)]
-pub(crate) use search::morton_order;
 pub use search::{ContactSearch, PairedCondition};
 pub(crate) use search::{TruthScene, locate};
+#[cfg(test)]
+pub(crate) use search::{by_slave, morton_order};
 
 #[cfg(test)]
 pub(crate) mod tests;

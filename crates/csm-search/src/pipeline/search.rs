@@ -625,19 +625,29 @@ impl ContactSearch {
             } else {
                 result.nodes.extend(node_results);
             }
-            let mut pruned: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
-            for &(s, m) in &pair.pruned {
-                pruned.entry(s).or_default().push(m);
-            }
-            for masters in pruned.values_mut() {
-                masters.sort_unstable();
-            }
+            let pruned = by_slave(&pair.pruned);
             result.pruned.insert(pair.key.to_string(), pruned);
             result.pairs.insert(pair.key.to_string(), slaves);
             result.paired_conditions += pair.paired.len();
         }
         result
     }
+}
+
+/// `(slave id, master id)` entries as a map from each slave id to its master ids, ascending
+/// (repeated entries kept): sorted (the mapping reports them in that order already), grouped
+/// by slave and bulk-built into the map, without a tree search per entry.
+pub(crate) fn by_slave(entries: &[(u32, u32)]) -> std::collections::BTreeMap<u32, Vec<u32>> {
+    let mut entries = entries.to_vec();
+    entries.sort_unstable();
+    let mut grouped: Vec<(u32, Vec<u32>)> = Vec::new();
+    for (s, m) in entries {
+        match grouped.last_mut() {
+            Some((last, masters)) if *last == s => masters.push(m),
+            _ => grouped.push((s, vec![m])),
+        }
+    }
+    grouped.into_iter().collect()
 }
 
 /// Points an error about a setup value (e.g. an unknown part name) at the setup file's line.

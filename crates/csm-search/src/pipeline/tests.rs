@@ -860,3 +860,23 @@ fn the_weighted_gap_computed_by_the_mapping_is_the_weighted_gap_of_the_pairs() {
     assert!(stepped.iter().any(|g| *g != 0.0));
     assert_eq!(stepped, recomputed);
 }
+
+/// The pruned entries of a result, grouped by slave, are what inserting them one by one and
+/// sorting each slave's masters gives, in any input order and with repeated entries.
+#[test]
+fn pruned_entries_group_by_slave_with_ascending_masters() {
+    let entries = [(7, 3), (2, 9), (7, 1), (2, 9), (5, 4), (2, 1), (7, 2)];
+    let mut naive: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+    for &(s, m) in &entries {
+        naive.entry(s).or_default().push(m);
+    }
+    for masters in naive.values_mut() {
+        masters.sort_unstable();
+    }
+    assert_eq!(super::by_slave(&entries), naive);
+    let mut reversed = entries;
+    reversed.reverse();
+    assert_eq!(super::by_slave(&reversed), naive);
+    assert_eq!(naive[&2], [1, 9, 9]);
+    assert!(super::by_slave(&[]).is_empty());
+}
