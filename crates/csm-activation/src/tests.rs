@@ -460,3 +460,45 @@ fn kept_face_normals_map_as_computed_ones() {
         assert!(normals[0] != normals[2], "{normals:?}");
     }
 }
+
+/// The known gaps' cursor finds what a binary search over every entry finds, for lookups in
+/// key order (its fast path), backwards, at random, repeated and absent.
+#[test]
+fn known_gaps_cursor_answers_as_a_binary_search() {
+    use crate::weighted_gap::KnownGap;
+    let key = |i: u32| (ConditionIdx(i / 5), ConditionIdx(i % 5 * 3));
+    // Every third key of 0..3000 is known, entered out of order.
+    let entries: Vec<KnownGap> = (0..1000u32).rev().map(|i| (key(3 * i), Ok(None))).collect();
+    let known = crate::weighted_gap::KnownGaps::new(entries);
+    let mut state = 0x853C_49E6_748F_EA9Bu64;
+    let mut random = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % 3100) as u32
+    };
+    let ascending: Vec<u32> = (0..3100).collect();
+    let descending: Vec<u32> = (0..3100).rev().collect();
+    let scattered: Vec<u32> = (0..5000).map(|_| random()).collect();
+    let repeated = vec![42, 42, 43, 0, 0, 2999, 3099, 3];
+    let (mut hits, mut misses) = (0, 0);
+    for queries in [ascending, descending, scattered, repeated] {
+        let mut cursor = known.cursor();
+        for &q in &queries {
+            let (s, m) = key(q);
+            let expected = known.get(s, m);
+            let got = cursor.get(s, m);
+            assert_eq!(
+                expected.map(std::ptr::from_ref),
+                got.map(std::ptr::from_ref),
+                "{q}"
+            );
+            if got.is_some() {
+                hits += 1;
+            } else {
+                misses += 1;
+            }
+        }
+    }
+    assert!(hits > 2000 && misses > 4000, "{hits} hits, {misses} misses");
+}

@@ -57,16 +57,24 @@ pub fn compute_weighted_gap(
     // added below in pair order (Kratos' sums), the known ones read where they are.
     let m = &*model;
     let known = known.unwrap_or_default();
+    // (The pairs come mostly in key order: each task looks them up with its own cursor.)
     let computed: Vec<Result<Option<PairGap>, Error>> = pairs
         .par_iter()
-        .filter(|&&(sc, mc)| known.get(sc, mc).is_none())
-        .map(|&(sc, mc)| pair_weighted_gap(m, sc, mc, &seg_settings, dim))
+        .map_init(
+            || known.cursor(),
+            |cursor, &(sc, mc)| {
+                let unknown = cursor.get(sc, mc).is_none();
+                unknown.then(|| pair_weighted_gap(m, sc, mc, &seg_settings, dim))
+            },
+        )
+        .flatten_iter()
         .collect();
     let mut computed = computed.into_iter();
     let mut isolated = Vec::with_capacity(pairs.len());
+    let mut cursor = known.cursor();
     for &(sc, mc) in pairs {
         let fresh;
-        let contribution = match known.get(sc, mc) {
+        let contribution = match cursor.get(sc, mc) {
             Some(gap) => gap,
             None => {
                 fresh = computed
@@ -132,7 +140,10 @@ impl KnownGaps {
         self.entries.is_empty()
     }
 
-    fn get(
+    /// The contribution of the pair `(slave, master)`, if known (the oracle of
+    /// [`KnownGapsCursor::get`]).
+    #[cfg(test)]
+    pub(crate) fn get(
         &self,
         slave: ConditionIdx,
         master: ConditionIdx,
@@ -142,6 +153,66 @@ impl KnownGaps {
             .binary_search_by_key(&(slave, master), |(key, _)| *key)
             .ok()?;
         Some(&self.entries[k].1)
+    }
+
+    /// A cursor for many lookups ([`KnownGapsCursor::get`]).
+    pub(crate) fn cursor(&self) -> KnownGapsCursor<'_> {
+        KnownGapsCursor {
+            gaps: self,
+            position: 0,
+        }
+    }
+}
+
+/// Lookups in a [`KnownGaps`] that start from the previous one's position: pairs asked in key
+/// order are found by a short forward search instead of a binary search over every entry
+/// (a cache miss per step on a large table).
+pub(crate) struct KnownGapsCursor<'a> {
+    gaps: &'a KnownGaps,
+    /// Where the previous lookup ended (the entry found, or where it would be).
+    position: usize,
+}
+
+impl<'a> KnownGapsCursor<'a> {
+    /// The contribution of the pair `(slave, master)`, if known: the same answer as a binary
+    /// search over every entry, for any sequence of lookups.
+    pub(crate) fn get(
+        &mut self,
+        slave: ConditionIdx,
+        master: ConditionIdx,
+    ) -> Option<&'a Result<Option<PairGap>, Error>> {
+        let entries = &self.gaps.entries;
+        let key = (slave, master);
+        let search = |range: &'a [KnownGap]| range.binary_search_by_key(&key, |(k, _)| *k);
+        let start = self.position;
+        let found = if entries.get(start).is_some_and(|(k, _)| *k <= key) {
+            // Galloping forward: `entries[low]` is at most the key, `entries[high]` (if any)
+            // above it.
+            let (mut low, mut step) = (start, 1);
+            let mut high = start + 1;
+            while high < entries.len() && entries[high].0 <= key {
+                low = high;
+                step *= 2;
+                high = low + step;
+            }
+            let high = high.min(entries.len());
+            match search(&entries[low..high]) {
+                Ok(i) => Ok(low + i),
+                Err(i) => Err(low + i),
+            }
+        } else {
+            search(entries)
+        };
+        match found {
+            Ok(i) => {
+                self.position = i;
+                Some(&entries[i].1)
+            }
+            Err(i) => {
+                self.position = i;
+                None
+            }
+        }
     }
 }
 
