@@ -413,7 +413,12 @@ mod with_normals {
                     continue;
                 };
                 for ops in [OperatorSettings::mapper(), OperatorSettings::explicit()] {
-                    let first = integration_points(&s1, &ma1, &seg, &ops).unwrap();
+                    // A first integration that fails (a Gauss point's projection onto a
+                    // badly distorted master whose local coordinates do not converge) is
+                    // the pair's error: the mapping never integrates it again.
+                    let Ok(first) = integration_points(&s1, &ma1, &seg, &ops) else {
+                        continue;
+                    };
                     let again = integration_points_with_normals(&s2, &ma2, &first);
                     let fresh = integration_points(&s2, &ma2, &seg, &ops);
                     prop_assert_eq!(format!("{again:?}"), format!("{fresh:?}"));
