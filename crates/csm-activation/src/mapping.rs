@@ -8,8 +8,8 @@ use csm_geometry::{
 };
 use csm_geometry::{Geometry, MAX_FACE_NODES, MAX_MORTAR_FACE_NODES};
 use csm_model::{
-    ConditionId, ConditionIdx, Flag, GATHER_BLOCK, GatheredPoints, KeptFaceNormals, ModelPart,
-    NodeIdx, PartIdx, ScalarVar, VectorVar,
+    ConditionId, ConditionIdx, FaceNormals, Flag, GATHER_BLOCK, GatheredPoints, KeptFaceNormals,
+    ModelPart, NodeIdx, PartIdx, ScalarVar, VectorVar,
 };
 
 use rayon::prelude::*;
@@ -176,15 +176,15 @@ pub(crate) fn make_face<'a>(
 /// `ComputeNodesMeanNormalModelPart` of one side: nodal NORMAL := 0 on the nodes of its
 /// conditions, condition normal := unit normal at the centre, every node accumulates the unit
 /// normal at its own local coordinates, then one normalisation (norm > eps).
-/// `known`: the faces' unit normals on the current coordinates, where the caller has them
-/// ([`KeptFaceNormals::subset`]; computed here otherwise).
+/// `known`: the table of these faces' unit normals on the current coordinates, where the
+/// caller has it ([`KeptFaceNormals::subsets`]; computed here otherwise).
 pub(crate) fn mean_normals(
     model: &mut ModelPart,
     conditions: &[ConditionIdx],
-    known: Option<&KeptFaceNormals>,
+    known: Option<FaceNormals>,
 ) -> Result<(), Error> {
     model.nodal_data_mut().add_vector(VectorVar::Normal);
-    let faces = match known.and_then(|table| table.subset(model, conditions)) {
+    let faces = match known {
         Some(faces) => faces,
         None => csm_model::face_unit_normals(model, conditions).map_err(|e| match e.kind() {
             csm_model::ErrorKind::Geometry { id, source, .. } => {
@@ -432,9 +432,15 @@ fn normal_gap_process_inner(
         };
     }
     // 2. Mean normals: origin (master side) first, destination (slave side) second.
-    mean_normals(model, &s.master_conditions, face_normals.as_ref())?;
-    mean_normals(model, &s.slave_conditions, face_normals.as_ref())?;
-    drop(face_normals);
+    // Both sides' faces from the kept table at once (one check, one position table).
+    let known = face_normals
+        .and_then(|kept| kept.subsets(model, [&s.master_conditions, &s.slave_conditions]));
+    let (master_faces, slave_faces) = match known {
+        Some([master, slave]) => (Some(master), Some(slave)),
+        None => (None, None),
+    };
+    mean_normals(model, &s.master_conditions, master_faces)?;
+    mean_normals(model, &s.slave_conditions, slave_faces)?;
     // Destination reset.
     for n in &s.slave_nodes {
         aux[n.index()] = Vector::zeros();

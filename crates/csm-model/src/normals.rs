@@ -267,6 +267,16 @@ impl KeptFaceNormals {
     /// normals of the table's faces are no longer the centre normals it was kept with (their
     /// fingerprint differs: the caller then computes them).
     pub fn subset(&self, model: &ModelPart, conditions: &[ConditionIdx]) -> Option<FaceNormals> {
+        self.subsets(model, [conditions]).map(|[table]| table)
+    }
+
+    /// [`subset`](Self::subset) of each list of `lists`, with one check of the condition
+    /// normals and one position table for all of them; `None` when one of them is `None`.
+    pub fn subsets<const N: usize>(
+        &self,
+        model: &ModelPart,
+        lists: [&[ConditionIdx]; N],
+    ) -> Option<[FaceNormals; N]> {
         const ABSENT: u32 = u32::MAX;
         let centres = model.condition_normals();
         let kept = self.conditions.iter().map(|c| centres.get(c.index()));
@@ -278,24 +288,31 @@ impl KeptFaceNormals {
             *position.get_mut(c.index())? = i as u32;
         }
         let kinds = model.conditions();
-        let mut table = FaceNormals::default();
-        table.conditions.reserve(conditions.len());
-        table.centres.reserve(conditions.len());
-        table.ends.reserve(conditions.len());
-        let mut end = 0u32;
-        for &c in conditions {
-            if !kinds.kind(c.index()).is_face() {
-                continue;
+        let one = |conditions: &[ConditionIdx]| -> Option<FaceNormals> {
+            let mut table = FaceNormals::default();
+            table.conditions.reserve(conditions.len());
+            table.centres.reserve(conditions.len());
+            table.ends.reserve(conditions.len());
+            let mut end = 0u32;
+            for &c in conditions {
+                if !kinds.kind(c.index()).is_face() {
+                    continue;
+                }
+                let i = *position.get(c.index()).filter(|&&i| i != ABSENT)? as usize;
+                let nodes = &self.nodes[nodes_start(&self.ends, i)..self.ends[i] as usize];
+                table.conditions.push(c);
+                table.centres.push(centres[c.index()]);
+                table.nodes.extend_from_slice(nodes);
+                end += nodes.len() as u32;
+                table.ends.push(end);
             }
-            let i = *position.get(c.index()).filter(|&&i| i != ABSENT)? as usize;
-            let nodes = &self.nodes[nodes_start(&self.ends, i)..self.ends[i] as usize];
-            table.conditions.push(c);
-            table.centres.push(centres[c.index()]);
-            table.nodes.extend_from_slice(nodes);
-            end += nodes.len() as u32;
-            table.ends.push(end);
+            Some(table)
+        };
+        let tables = lists.map(one);
+        if tables.iter().any(Option::is_none) {
+            return None;
         }
-        Some(table)
+        Some(tables.map(|t| t.unwrap_or_default()))
     }
 }
 

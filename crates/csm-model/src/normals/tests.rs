@@ -222,10 +222,15 @@ fn a_subset_of_the_table_is_the_table_of_the_subset() {
     let fresh = face_unit_normals(&mp, &some).unwrap();
     assert!(fresh.len() > 10 && fresh.len() < table.len());
     assert_eq!(kept.subset(&mp, &some), Some(fresh.clone()));
+    assert_eq!(
+        kept.subsets(&mp, [&all, &some]),
+        Some([table.clone(), fresh.clone()])
+    );
     assert_eq!(kept.subset(&mp, &[]), Some(FaceNormals::default()));
     // A face the kept table does not have.
     let part = face_unit_normals(&mp, &some).unwrap().keep();
     assert_eq!(part.subset(&mp, &all), None);
+    assert_eq!(part.subsets(&mp, [&some, &all]), None);
     assert_eq!(part.subset(&mp, &some), Some(fresh));
     // Condition normals that are no longer the kept centre normals (one last bit) or that
     // the model no longer has.
