@@ -1,6 +1,7 @@
 //! Local coordinates of a global point (Kratos `PointLocalCoordinates`, reference §17.1).
 
 use super::Geometry;
+use super::quad_outside::QuadOutside;
 use super::unit_normal::DEGENERATE_REL;
 use crate::math::{Matrix3, Point, Real, Vector, dot_kratos, is_finite_point};
 use crate::{Error, ErrorKind, GeometryKind};
@@ -201,7 +202,8 @@ pub(crate) struct PreparedSolver(SolverStart);
 
 #[derive(Clone, Debug)]
 enum SolverStart {
-    Quadrilateral(QuadStart),
+    /// The first step, and the inside tests' certificate where it applies.
+    Quadrilateral(QuadStart, Option<QuadOutside>),
     /// `J` and `(JᵀJ)⁻¹`; `None` for a singular Jacobian (the geometry's own path then gives
     /// the error).
     Affine(Matrix3, Option<Matrix3>),
@@ -213,7 +215,7 @@ impl<'a> LocalCoordinatesSolver<'a> {
     pub fn new(geometry: Geometry<'a>) -> LocalCoordinatesSolver<'a> {
         let start = match geometry.kind() {
             GeometryKind::Quadrilateral3D4 => {
-                SolverStart::Quadrilateral(geometry.kratos_quadrilateral_start())
+                SolverStart::Quadrilateral(geometry.kratos_quadrilateral_start(), None)
             }
             GeometryKind::Triangle3D3 | GeometryKind::Triangle2D3 | GeometryKind::Tetrahedra3D4 => {
                 let xi = geometry.reference_center();
@@ -223,6 +225,16 @@ impl<'a> LocalCoordinatesSolver<'a> {
             _ => SolverStart::Other,
         };
         LocalCoordinatesSolver { geometry, start }
+    }
+
+    /// The solver with the certificate that lets [`is_inside`](Self::is_inside) skip the
+    /// iteration for most points outside a plane quadrilateral (`quad_outside`): for a
+    /// solver that will test several points (the same answers; it costs a little to make).
+    pub(crate) fn with_outside_certificate(mut self) -> LocalCoordinatesSolver<'a> {
+        if let SolverStart::Quadrilateral(_, certificate) = &mut self.start {
+            *certificate = QuadOutside::new(self.geometry.points());
+        }
+        self
     }
 
     /// The geometry.
@@ -252,15 +264,14 @@ impl<'a> LocalCoordinatesSolver<'a> {
     pub fn local_coordinates(&self, p: &Point) -> Result<Point, Error> {
         let g = &self.geometry;
         let absolute = match &self.start {
-            SolverStart::Quadrilateral(s) => {
-                g.kratos_quadrilateral_iterate(p, Some(s))
-                    .and_then(|newton| match newton.outcome {
-                        NewtonOutcome::Converged => Ok(newton.local),
-                        NewtonOutcome::Diverged | NewtonOutcome::MaxIterations => {
-                            Err(Error::new(ErrorKind::NotConverged))
-                        }
-                    })
-            }
+            SolverStart::Quadrilateral(s, _) => g
+                .kratos_quadrilateral_iterate(p, Some(s))
+                .and_then(|newton| match newton.outcome {
+                    NewtonOutcome::Converged => Ok(newton.local),
+                    NewtonOutcome::Diverged | NewtonOutcome::MaxIterations => {
+                        Err(Error::new(ErrorKind::NotConverged))
+                    }
+                }),
             SolverStart::Affine(j, Some(inv)) => g.least_squares_iterate(p, Some((j, inv))),
             SolverStart::Affine(_, None) | SolverStart::Other => {
                 return g.point_local_coordinates(p);
@@ -274,8 +285,16 @@ impl<'a> LocalCoordinatesSolver<'a> {
         }
     }
 
-    /// [`Geometry::is_inside`] of `p` (same result, same errors).
+    /// [`Geometry::is_inside`] of `p` (same result, same errors). A plane quadrilateral skips
+    /// the iteration for a point its certificate puts outside (`quad_outside`).
     pub fn is_inside(&self, p: &Point, tolerance: Real) -> Result<Option<Point>, Error> {
+        if let SolverStart::Quadrilateral(start, Some(outside)) = &self.start
+            && !start.singular
+            && tolerance.is_finite()
+            && outside.certainly_outside(p, tolerance)
+        {
+            return Ok(None);
+        }
         self.geometry.inside_with(
             tolerance,
             || self.kratos_last_iterate(p),
@@ -288,7 +307,7 @@ impl<'a> LocalCoordinatesSolver<'a> {
     /// other kinds.
     pub(crate) fn kratos_last_iterate(&self, p: &Point) -> Result<Point, Error> {
         match &self.start {
-            SolverStart::Quadrilateral(s) => self
+            SolverStart::Quadrilateral(s, _) => self
                 .geometry
                 .kratos_quadrilateral_iterate(p, Some(s))
                 .map(|k| k.local),

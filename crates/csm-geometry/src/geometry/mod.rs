@@ -8,6 +8,7 @@ mod is_inside;
 mod local_coordinates;
 mod measure;
 mod probe_bound;
+mod quad_outside;
 mod quadrature;
 mod unit_normal;
 pub use unit_normal::{FaceUnitNormals, MAX_FACE_NODES};

@@ -1,6 +1,8 @@
 //! 3D exact mortar segmentation of triangle/quadrilateral faces (Kratos
 //! `ExactMortarIntegrationUtility<3, 3|4, false, 3|4>`, reference §10.2.1).
 
+use std::cell::RefCell;
+
 use super::cell::{MortarCell, Segmentation};
 use super::face::{
     CLIPPING_TOLERANCE, DUPLICATE_POINT_TOLERANCE, MortarFace, MortarMode, ROBUST_AREA_FACTOR,
@@ -80,7 +82,77 @@ impl Frame {
 /// rotated slave's normal — or the first error computing them, which every pair reports at
 /// the point where [`clip_prepared`] computes it.
 #[derive(Debug)]
-pub(super) struct ClipSlave(Result<ClipSlaveData, Error>);
+pub(super) struct ClipSlave(Result<ClipSlaveData, Error>, RefCell<PointMemo>);
+
+/// Most points a [`PointMemo`] list holds: beyond, points are computed without being kept
+/// (a linear search must stay cheaper than the work it saves).
+const MEMO_CAPACITY: usize = 48;
+
+/// What [`clip_prepared`] computes per point from the point and the slave alone, kept for the
+/// slave's next masters: neighbouring masters share nodes, and a point's polygon appears in
+/// every master it lies in. Keyed by the exact bits of the point, so a hit returns what the
+/// computation would (it depends on nothing else).
+#[derive(Debug, Default)]
+struct PointMemo {
+    /// Master nodes: the projection onto the slave plane, rotated; the distance from the plane;
+    /// whether it lies inside the rotated slave (once asked).
+    master: Vec<([u64; 3], MasterPoint)>,
+    /// Polygon points (rotated): their slave local coordinates.
+    slave_local: Vec<([u64; 3], Point)>,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct MasterPoint {
+    rot: Point,
+    distance: Real,
+    inside: Option<bool>,
+}
+
+/// The exact bits of a point, a [`PointMemo`] key.
+fn bits(p: &Point) -> [u64; 3] {
+    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
+}
+
+impl PointMemo {
+    /// The master node `x`'s entry (its position in `master`), computed with `project` if new;
+    /// `None` where the memo is full and `x` not in it.
+    fn master_slot(
+        &mut self,
+        x: &Point,
+        project: impl FnOnce() -> MasterPoint,
+    ) -> Result<usize, MasterPoint> {
+        let key = bits(x);
+        if let Some(i) = self.master.iter().position(|(k, _)| *k == key) {
+            return Ok(i);
+        }
+        let value = project();
+        if self.master.is_empty() {
+            self.master.reserve_exact(MEMO_CAPACITY);
+        }
+        if self.master.len() < MEMO_CAPACITY {
+            self.master.push((key, value));
+            Ok(self.master.len() - 1)
+        } else {
+            Err(value)
+        }
+    }
+
+    /// The slave local coordinates of the rotated point `p`, computed with `local` if new.
+    fn slave_local(&mut self, p: &Point, local: impl FnOnce() -> Point) -> Point {
+        let key = bits(p);
+        if let Some((_, v)) = self.slave_local.iter().find(|(k, _)| *k == key) {
+            return *v;
+        }
+        let value = local();
+        if self.slave_local.is_empty() {
+            self.slave_local.reserve_exact(MEMO_CAPACITY);
+        }
+        if self.slave_local.len() < MEMO_CAPACITY {
+            self.slave_local.push((key, value));
+        }
+        value
+    }
+}
 
 #[derive(Debug)]
 struct ClipSlaveData {
@@ -103,7 +175,10 @@ struct ClipSlaveData {
 impl ClipSlave {
     /// Steps 1–2 of [`clip_prepared`] for the slave alone.
     pub(super) fn new(slave: &MortarFace<'_>, settings: &SegmentationSettings) -> ClipSlave {
-        ClipSlave(ClipSlaveData::new(slave, settings))
+        ClipSlave(
+            ClipSlaveData::new(slave, settings),
+            RefCell::new(PointMemo::default()),
+        )
     }
 }
 
@@ -176,7 +251,11 @@ impl ClipSlaveData {
         let rot_geom = Geometry::new(sg.kind(), &rot[..n]);
         let rot_solver = rot_geom
             .as_ref()
-            .map(|g| LocalCoordinatesSolver::new(*g).prepared())
+            .map(|g| {
+                LocalCoordinatesSolver::new(*g)
+                    .with_outside_certificate()
+                    .prepared()
+            })
             .map_err(Clone::clone);
         // The rotated slave lies in a plane z = const: its unit normal is (0, 0, ±1).
         let rot_normal = rot_geom.and_then(|g| g.unit_normal(&g.reference_center()));
@@ -236,13 +315,30 @@ pub(super) fn clip_prepared(
     }
     let n_slave = sg.points().len();
     let n_master = mg.points().len();
+    // The slave's memo of master nodes and polygon points (the same answers, kept).
+    let mut memo = prepared.1.borrow_mut();
     let mut master_rot = [Point::origin(); 4];
+    let mut slots: [Option<usize>; 4] = [None; 4];
     for (j, x) in mg.points().iter().enumerate() {
-        let (p, distance) = fast_project(&frame.center, x, n_s);
-        if distance > settings.distance_threshold {
+        let project = || {
+            let (p, distance) = fast_project(&frame.center, x, n_s);
+            MasterPoint {
+                rot: frame.rotate(&p),
+                distance,
+                inside: None,
+            }
+        };
+        let point = match memo.master_slot(x, project) {
+            Ok(i) => {
+                slots[j] = Some(i);
+                memo.master[i].1
+            }
+            Err(point) => point,
+        };
+        if point.distance > settings.distance_threshold {
             return Ok(None);
         }
-        master_rot[j] = frame.rotate(&p);
+        master_rot[j] = point.rot;
     }
     let slave_rot_geom = Geometry::new(sg.kind(), &data.rot[..n_slave])?;
     let rot_prepared = data.rot_solver.as_ref().map_err(Clone::clone)?;
@@ -258,7 +354,7 @@ pub(super) fn clip_prepared(
     // Several points on each of these faces: the point-independent work once (the slave's
     // prepared for all its masters).
     let slave_rot_solver = LocalCoordinatesSolver::from_prepared(slave_rot_geom, rot_prepared);
-    let master_rot_solver = LocalCoordinatesSolver::new(master_rot_geom);
+    let master_rot_solver = LocalCoordinatesSolver::new(master_rot_geom).with_outside_certificate();
     let fan = FanSlave {
         frame,
         slave: sg,
@@ -267,10 +363,15 @@ pub(super) fn clip_prepared(
     };
 
     // 3. Master points inside the slave.
-    let master_inside: Vec<bool> = master_rot[..n_master]
-        .iter()
-        .map(|p| inside(&slave_rot_solver, p, mode))
-        .collect();
+    let mut master_inside = [false; 4];
+    for (j, p) in master_rot[..n_master].iter().enumerate() {
+        let test = || inside(&slave_rot_solver, p, mode);
+        master_inside[j] = match slots[j] {
+            Some(i) => *memo.master[i].1.inside.get_or_insert_with(test),
+            None => test(),
+        };
+    }
+    let master_inside = &master_inside[..n_master];
     let tol_dup = frame.duplicate_tolerance();
     let mut points: Vec<Point> = Vec::with_capacity(16);
     let robust_min_area = ROBUST_AREA_FACTOR * slave_area;
@@ -310,28 +411,23 @@ pub(super) fn clip_prepared(
                 .collect::<Result<_, _>>()?;
             return Ok(finish(vec![MortarCell::new(sg, &local)]));
         }
-        push_unique(
-            &mut points,
-            &master_rot[..n_master],
-            &master_inside,
-            tol_dup,
-        );
-        let cells = fan_cells(&mut points, &fan, &master_rot_solver)?;
+        push_unique(&mut points, &master_rot[..n_master], master_inside, tol_dup);
+        let cells = fan_cells(&mut points, &fan, &master_rot_solver, &mut memo)?;
         return Ok(finish(cells));
     }
 
     // 4. The polygon points.
+    push_unique(&mut points, &master_rot[..n_master], master_inside, tol_dup);
+    let mut slave_inside = [false; 4];
+    for (flag, p) in slave_inside.iter_mut().zip(&slave_rot[..n_slave]) {
+        *flag = inside(&master_rot_solver, p, mode);
+    }
     push_unique(
         &mut points,
-        &master_rot[..n_master],
-        &master_inside,
+        &slave_rot[..n_slave],
+        &slave_inside[..n_slave],
         tol_dup,
     );
-    let slave_inside: Vec<bool> = slave_rot[..n_slave]
-        .iter()
-        .map(|p| inside(&master_rot_solver, p, mode))
-        .collect();
-    push_unique(&mut points, &slave_rot[..n_slave], &slave_inside, tol_dup);
     clipping_intersections(
         &mut points,
         &slave_rot[..n_slave],
@@ -340,7 +436,7 @@ pub(super) fn clip_prepared(
     );
 
     // 5. The fan.
-    let cells = fan_cells(&mut points, &fan, &master_rot_solver)?;
+    let cells = fan_cells(&mut points, &fan, &master_rot_solver, &mut memo)?;
     Ok(finish(cells))
 }
 
@@ -490,6 +586,7 @@ fn fan_cells(
     points: &mut [Point],
     fan: &FanSlave<'_>,
     master_solver: &LocalCoordinatesSolver<'_>,
+    memo: &mut PointMemo,
 ) -> Result<Vec<MortarCell>, Error> {
     let (frame, slave) = (fan.frame, fan.slave);
     let master_rot = master_solver.geometry();
@@ -501,8 +598,10 @@ fn fan_cells(
     let mut master_local = Vec::with_capacity(n);
     for p in points.iter_mut() {
         master_local.push(solver_local_coordinates(master_solver, p, frame.mode).unwrap_or(nan));
-        let global = frame.unrotate(p);
-        *p = solver_local_coordinates(&fan.local_solver, &global, frame.mode).unwrap_or(nan);
+        *p = memo.slave_local(p, || {
+            let global = frame.unrotate(p);
+            solver_local_coordinates(&fan.local_solver, &global, frame.mode).unwrap_or(nan)
+        });
     }
     let normal = fan.rot_normal.as_ref().map_err(Clone::clone)?;
     let order = angle_order(points, normal);

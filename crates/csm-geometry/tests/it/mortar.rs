@@ -588,3 +588,82 @@ fn a_prepared_slave_segments_each_master_as_a_fresh_one() {
     }
     assert!(with_cells > 200, "{with_cells}");
 }
+
+/// A prepared slave keeps what it computed for each master node and polygon point for its next
+/// masters: on a master grid whose faces share nodes (quadrilaterals and triangles, a slave
+/// whose own nodes lie on master nodes and edges, masters visited in random order and more
+/// than once, a grid with more nodes than the slave keeps), every master still gets what a
+/// fresh `exact_segmentation` gives, bit for bit.
+#[test]
+fn a_prepared_slave_segments_masters_sharing_nodes_as_fresh_ones() {
+    let mut rng = Rng::new(0x0A11_CE11);
+    let mut with_cells = 0;
+    for round in 0..40 {
+        let mode = MODES[round % 2];
+        let motion = if round % 3 == 0 {
+            Motion::identity()
+        } else {
+            Motion::random(&mut rng)
+        };
+        // A (2k+1)² node grid of spacing 0.5 around the origin, slightly warped, in a plane.
+        let k: i32 = if round % 4 == 3 { 6 } else { 3 };
+        let side = (2 * k + 1) as usize;
+        let warp = [0.0, 0.05][round % 2];
+        let grid: Vec<Point> = (-k..=k)
+            .flat_map(|j| (-k..=k).map(move |i| (i, j)))
+            .map(|(i, j)| {
+                let (x, y) = (0.5 * f64::from(i), 0.5 * f64::from(j));
+                Point::new(
+                    x + warp * rng.range(-1.0, 1.0),
+                    y + warp * rng.range(-1.0, 1.0),
+                    -0.02 + warp * rng.range(-0.1, 0.1),
+                )
+            })
+            .collect();
+        let node = |i: usize, j: usize| motion.apply(&grid[j * side + i]);
+        let mut masters: Vec<Vec<Point>> = Vec::new();
+        for j in 0..side - 1 {
+            for i in 0..side - 1 {
+                let quad = [
+                    node(i, j),
+                    node(i + 1, j),
+                    node(i + 1, j + 1),
+                    node(i, j + 1),
+                ];
+                if (i + j + round) % 5 == 0 {
+                    masters.push(vec![quad[0], quad[1], quad[2]]);
+                    masters.push(vec![quad[0], quad[2], quad[3]]);
+                } else {
+                    masters.push(quad.to_vec());
+                }
+            }
+        }
+        // The slave: a quadrilateral or triangle over the middle, with a node on a master node
+        // and one on a master edge.
+        let mut slave = vec![
+            Point::new(-0.5, -0.5, 0.0),
+            Point::new(0.25, -0.6, 0.01),
+            Point::new(0.7, 0.55, -0.01),
+            Point::new(-0.6, 0.4, 0.0),
+        ];
+        if round % 5 == 4 {
+            slave.pop();
+        }
+        let s: Vec<Point> = slave.iter().map(|p| motion.apply(p)).collect();
+        let n = motion.rotate(&Vector::z());
+        let sf = MortarFace::new(Geometry::new(kind_of(s.len()), &s).unwrap(), n).unwrap();
+        let settings = SegmentationSettings {
+            mode,
+            distance_threshold: [1e24, 0.025][round % 2],
+        };
+        let prepared = SlaveSegmentation::new(&sf, &settings);
+        for _ in 0..3 * masters.len() {
+            let m = &masters[(rng.unit() * masters.len() as f64) as usize];
+            let mf = MortarFace::new(Geometry::new(kind_of(m.len()), m).unwrap(), -n).unwrap();
+            let fresh = exact_segmentation(&sf, &mf, &settings);
+            assert_eq!(fresh, prepared.segment(&mf), "round {round}");
+            with_cells += usize::from(matches!(fresh, Ok(Some(ref g)) if !g.cells().is_empty()));
+        }
+    }
+    assert!(with_cells > 500, "{with_cells}");
+}
