@@ -1,11 +1,19 @@
 //! Dense storage of nodes, elements and conditions, with the external ids beside it.
 
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use csm_geometry::GeometryKind;
 use csm_geometry::math::Point;
 
 use crate::{Flags, NodeIdx, PropertiesId};
+
+/// A value no other change of any model's coordinates or connectivity in this process has
+/// had ([`crate::ModelPart::geometry_stamp`]); never 0.
+pub(crate) fn fresh_stamp() -> u64 {
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    NEXT.fetch_add(1, Ordering::Relaxed)
+}
 
 /// The nodes of a model part, structure-of-arrays: index `i` of every column is node
 /// `NodeIdx(i)`.
@@ -16,6 +24,8 @@ pub struct Nodes {
     pub(crate) coordinates: Vec<Point>,
     pub(crate) flags: Vec<Flags>,
     pub(crate) by_id: IdIndex,
+    /// Renewed ([`fresh_stamp`]) by every access that can change the coordinates.
+    pub(crate) stamp: u64,
 }
 
 impl Nodes {
@@ -47,8 +57,11 @@ impl Nodes {
         &self.coordinates
     }
 
-    /// Current coordinates, mutable (the initial coordinates are not touched).
+    /// Current coordinates, mutable (the initial coordinates are not touched). Renews the
+    /// model's [`geometry_stamp`](crate::ModelPart::geometry_stamp), whether or not a
+    /// coordinate is then changed.
     pub fn coordinates_mut(&mut self) -> &mut [Point] {
+        self.stamp = fresh_stamp();
         &mut self.coordinates
     }
 
@@ -86,6 +99,8 @@ pub struct Entities {
     pub(crate) properties: Vec<PropertiesId>,
     pub(crate) flags: Vec<Flags>,
     pub(crate) by_id: IdIndex,
+    /// Renewed ([`fresh_stamp`]) by every change of the kinds or the connectivity.
+    pub(crate) stamp: u64,
 }
 
 impl Entities {
@@ -144,6 +159,7 @@ impl Entities {
     /// Reverses the node order of entity `i` (Kratos `std::reverse` of the geometry's nodes,
     /// used to invert normals).
     pub fn reverse_nodes(&mut self, i: usize) {
+        self.stamp = fresh_stamp();
         let start = if i == 0 {
             0
         } else {
@@ -171,6 +187,7 @@ impl Entities {
         {
             return false;
         }
+        self.stamp = fresh_stamp();
         let old: Vec<NodeIdx> = self.connectivity[start..end].to_vec();
         for (k, &from) in permutation.iter().enumerate() {
             self.connectivity[start + k] = old[from];
@@ -248,6 +265,7 @@ impl Entities {
                 self.name_table.len() - 1
             }
         };
+        self.stamp = fresh_stamp();
         self.by_id.insert(id, self.ids.len() as u32);
         self.ids.push(id);
         self.kinds.push(kind);

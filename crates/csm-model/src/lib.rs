@@ -41,12 +41,12 @@ pub use ids::{
     ConditionId, ConditionIdx, ElementId, ElementIdx, NodeId, NodeIdx, PartIdx, PropertiesId,
 };
 pub use index_map::IndexMap;
-pub use model_part::ModelPart;
+pub use model_part::{GeometryStamp, ModelPart};
 pub use nodal_data::{NodalData, ScalarVar, VectorVar};
 pub use nodal_h::{NodalHMode, assign_nodal_h, compute_nodal_h};
 pub use normals::{
     FaceNormals, FaceNormalsRef, KeptFaceNormals, NormalsMode, UnitNormalsSnapshot,
-    compute_unit_normals, face_unit_normals,
+    compute_unit_normals, compute_unit_normals_reusing, face_unit_normals,
 };
 pub use parts::SubModelPart;
 pub use process_info::ProcessInfo;

@@ -31,6 +31,11 @@ pub struct ModelPart {
     condition_normals: Vec<Vector>,
 }
 
+/// [`ModelPart::geometry_stamp`]: equal stamps, equal node coordinates and condition
+/// geometries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct GeometryStamp([u64; 2]);
+
 /// The most nodes of an element or condition kind (Hexahedra3D27).
 const MAX_ENTITY_NODES: usize = 27;
 
@@ -147,6 +152,15 @@ impl ModelPart {
         }
     }
 
+    /// A value that changes whenever the node coordinates or the conditions' kinds or
+    /// connectivity may have changed (a node or condition added, [`Nodes::coordinates_mut`],
+    /// [`Entities::reverse_nodes`], [`Entities::permute_nodes`]), and that no other model's
+    /// geometry has in this process (a clone shares it until one of them changes): what is
+    /// computed from the conditions' geometry alone stays valid while it is the same.
+    pub fn geometry_stamp(&self) -> GeometryStamp {
+        GeometryStamp([self.nodes.stamp, self.conditions.stamp])
+    }
+
     /// Adds a node with external id `id`. Errors on a duplicate id or a non-finite
     /// coordinate.
     pub fn add_node(&mut self, id: NodeId, position: Point) -> Result<NodeIdx, Error> {
@@ -162,6 +176,7 @@ impl ModelPart {
         }
         let idx = NodeIdx(self.nodes.ids.len() as u32);
         self.nodes.by_id.insert(id.0, idx.0);
+        self.nodes.stamp = crate::entities::fresh_stamp();
         self.nodes.ids.push(id.0);
         self.nodes.initial.push(position);
         self.nodes.coordinates.push(position);

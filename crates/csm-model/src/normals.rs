@@ -18,7 +18,9 @@ use csm_geometry::math::{EPS, Vector};
 use rayon::prelude::*;
 
 use crate::error::{EntityKind, Error, ErrorKind};
-use crate::{ConditionIdx, Flag, GATHER_BLOCK, GatheredPoints, ModelPart, PartIdx, VectorVar};
+use crate::{
+    ConditionIdx, Flag, GATHER_BLOCK, GatheredPoints, GeometryStamp, ModelPart, PartIdx, VectorVar,
+};
 
 /// How nodal normals are normalised.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -52,13 +54,25 @@ fn geometry_error(c: ConditionIdx, model: &ModelPart, source: csm_geometry::Erro
 /// The unit normals of many faces ([`face_unit_normals`]), stored flat: one centre normal per
 /// face and the nodal normals only of faces whose normal varies over the face (affine faces —
 /// Line2D2, Triangle3D3 — have one normal; [`FaceNormalsRef::node`] returns it for every node).
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default)]
 pub struct FaceNormals {
     conditions: Vec<ConditionIdx>,
     centres: Vec<Vector>,
     /// Per face, the end of its nodal normals in `nodes` (the start is the previous end).
     ends: Vec<u32>,
     nodes: Vec<Vector>,
+    /// The model's geometry when the normals were computed ([`KeptFaceNormals::current_subset`]).
+    stamp: GeometryStamp,
+}
+
+impl PartialEq for FaceNormals {
+    /// The same faces with the same normals (wherever they were computed).
+    fn eq(&self, other: &FaceNormals) -> bool {
+        self.conditions == other.conditions
+            && self.centres == other.centres
+            && self.ends == other.ends
+            && self.nodes == other.nodes
+    }
 }
 
 /// One face of a [`FaceNormals`] table.
@@ -231,6 +245,7 @@ impl FaceNormals {
     pub fn keep(self) -> KeptFaceNormals {
         KeptFaceNormals {
             fingerprint: fingerprint(self.centres.iter()),
+            stamp: self.stamp,
             conditions: self.conditions,
             ends: self.ends,
             nodes: self.nodes,
@@ -256,6 +271,9 @@ pub struct KeptFaceNormals {
     nodes: Vec<Vector>,
     /// [`fingerprint`] of the centre normals, in face order.
     fingerprint: u64,
+    /// The model's geometry when the normals were computed ([`KeptFaceNormals::
+    /// current_subset`]).
+    stamp: GeometryStamp,
 }
 
 impl KeptFaceNormals {
@@ -268,6 +286,24 @@ impl KeptFaceNormals {
     /// fingerprint differs: the caller then computes them).
     pub fn subset(&self, model: &ModelPart, conditions: &[ConditionIdx]) -> Option<FaceNormals> {
         self.subsets(model, [conditions]).map(|[table]| table)
+    }
+
+    /// [`subset`](Self::subset), also after other changes of the model (conditions added,
+    /// the historical variables), as long as its geometry is the one the table was computed
+    /// on ([`ModelPart::geometry_stamp`]: the node coordinates and the conditions' node
+    /// orders) — and, as for `subset`, the condition normals still hold the table's centre
+    /// normals. `None` otherwise.
+    pub fn current_subset(
+        &self,
+        model: &ModelPart,
+        conditions: &[ConditionIdx],
+    ) -> Option<FaceNormals> {
+        if self.stamp == GeometryStamp::default() || self.stamp != model.geometry_stamp() {
+            return None;
+        }
+        let [mut table] = self.subsets(model, [conditions])?;
+        table.stamp = self.stamp;
+        Some(table)
     }
 
     /// [`subset`](Self::subset) of each list of `lists`, with one check of the condition
@@ -421,6 +457,7 @@ pub fn face_unit_normals(
         centres,
         ends,
         nodes,
+        stamp: model.geometry_stamp(),
     })
 }
 
@@ -434,13 +471,29 @@ pub fn compute_unit_normals(
     part: Option<PartIdx>,
     mode: NormalsMode,
 ) -> Result<FaceNormals, Error> {
+    compute_unit_normals_reusing(model, part, mode, None)
+}
+
+/// [`compute_unit_normals`], with the faces' own normals taken from `known` (the kept table of
+/// an earlier [`compute_unit_normals`] of these faces or more) where the model's geometry and
+/// condition normals have not changed since ([`KeptFaceNormals::current_subset`]): the same
+/// results, without computing them again.
+pub fn compute_unit_normals_reusing(
+    model: &mut ModelPart,
+    part: Option<PartIdx>,
+    mode: NormalsMode,
+    known: Option<&KeptFaceNormals>,
+) -> Result<FaceNormals, Error> {
     let conditions = conditions_of(model, part);
     model.nodal_data_mut().add_vector(VectorVar::Normal);
     let n_nodes = model.nodes().len();
     // The per-face normals in parallel; the sums in condition order, as Kratos' serial loop
     // adds them (identical results for any thread count). `count`: how many faces a node
     // has — Kratos normalises it that often (Q38).
-    let faces = face_unit_normals(model, &conditions)?;
+    let faces = match known.and_then(|k| k.current_subset(model, &conditions)) {
+        Some(faces) => faces,
+        None => face_unit_normals(model, &conditions)?,
+    };
     let (mut nodal, count) = faces.nodal_sums(model);
     // Normalise. Kratos' loop normalises node by node in condition order, a node once per
     // adjacent face; no other node's value enters, so each node is normalised `count` times

@@ -250,3 +250,113 @@ fn a_subset_of_the_table_is_the_table_of_the_subset() {
     assert_eq!(kept.subset(&mp, &all), Some(table));
     assert_eq!(kept.subset(&model(&[], &[]), &[]), None);
 }
+
+/// The geometry stamp changes with every change of the coordinates or of the conditions'
+/// nodes (and only with those), differs between models, and is shared by a clone until one
+/// of them changes.
+#[test]
+fn the_geometry_stamp_follows_coordinates_and_condition_nodes() {
+    let mut mp = bumpy_grid(5);
+    let s0 = mp.geometry_stamp();
+    assert_ne!(s0, GeometryStamp::default());
+    assert_ne!(s0, bumpy_grid(5).geometry_stamp());
+    // What does not touch the geometry.
+    mp.nodes_mut().flags_mut()[0].set(Flag::SLAVE, true);
+    mp.conditions_mut().flags_mut()[0].set(Flag::SLAVE, true);
+    mp.nodal_data_mut().add_vector(VectorVar::Normal);
+    mp.condition_normals_mut()[0] = Vector::x();
+    let part = mp.create_part("Part").unwrap();
+    mp.add_conditions_to_part(part, &[ConditionIdx(0)]);
+    assert_eq!(mp.geometry_stamp(), s0);
+    let clone = mp.clone();
+    assert_eq!(clone.geometry_stamp(), s0);
+    // What does (even without changing a value).
+    let changes: [fn(&mut ModelPart); 5] = [
+        |m| {
+            let _ = m.nodes_mut().coordinates_mut();
+        },
+        |m| m.conditions_mut().reverse_nodes(0),
+        |m| assert!(m.conditions_mut().permute_nodes(0, &[1, 2, 3, 0])),
+        |m| {
+            m.add_node(NodeId(9_999), Point::new(9.0, 9.0, 9.0))
+                .unwrap();
+        },
+        |m| {
+            let nodes = [NodeId(1), NodeId(2), NodeId(3)];
+            m.add_condition(
+                ConditionId(9_999),
+                GeometryKind::Triangle3D3,
+                "",
+                &nodes,
+                PropertiesId(0),
+            )
+            .unwrap();
+        },
+    ];
+    let mut seen = vec![s0];
+    for change in changes {
+        change(&mut mp);
+        let s = mp.geometry_stamp();
+        assert!(!seen.contains(&s), "{s:?}");
+        seen.push(s);
+    }
+    assert_eq!(clone.geometry_stamp(), s0);
+}
+
+/// A kept table serves a later computation of these faces (or some of them) while the
+/// geometry and the condition normals are the ones it was computed on: the same table,
+/// condition normals and nodal NORMALs as a computation from scratch; after a change of the
+/// coordinates, of a condition's nodes or of the condition normals it is not used.
+#[test]
+fn a_current_kept_table_gives_what_computing_gives() {
+    let mut mp = bumpy_grid(12);
+    let part = mp.create_part("Part").unwrap();
+    let some: Vec<ConditionIdx> = all_conditions(&mp).into_iter().step_by(2).collect();
+    mp.add_conditions_to_part(part, &some);
+    let kept = compute_unit_normals(&mut mp, None, NormalsMode::Kratos)
+        .unwrap()
+        .keep();
+    let fresh_of = |mp: &ModelPart| {
+        let mut again = mp.clone();
+        let table = compute_unit_normals(&mut again, Some(part), NormalsMode::Kratos).unwrap();
+        (table, again)
+    };
+    let same = |a: &ModelPart, b: &ModelPart| {
+        let bits = |v: &[Vector]| -> Vec<[u64; 3]> {
+            v.iter()
+                .map(|n| [n.x.to_bits(), n.y.to_bits(), n.z.to_bits()])
+                .collect()
+        };
+        bits(nodal(a)) == bits(nodal(b))
+            && bits(a.condition_normals()) == bits(b.condition_normals())
+    };
+    // Flags and nodal data changed, a condition added: the geometry of these faces is not.
+    mp.nodes_mut().flags_mut()[3].set(Flag::SLAVE, true);
+    let (expected, expected_model) = fresh_of(&mp);
+    assert!(kept.current_subset(&mp, &some).is_some());
+    let mut reused = mp.clone();
+    let table =
+        compute_unit_normals_reusing(&mut reused, Some(part), NormalsMode::Kratos, Some(&kept))
+            .unwrap();
+    assert_eq!(table, expected);
+    assert!(same(&reused, &expected_model));
+    // After a change of the coordinates (a node moved, the table's values would be wrong),
+    // of a condition's nodes, or of the condition normals, it is not used, and the results
+    // are those of a computation.
+    let moves: [fn(&mut ModelPart); 3] = [
+        |m| m.nodes_mut().coordinates_mut()[5].z += 0.01,
+        |m| m.conditions_mut().reverse_nodes(2),
+        |m| m.condition_normals_mut()[4] *= -1.0,
+    ];
+    for change in moves {
+        let mut moved = mp.clone();
+        change(&mut moved);
+        assert!(kept.current_subset(&moved, &some).is_none());
+        let (expected, expected_model) = fresh_of(&moved);
+        let table =
+            compute_unit_normals_reusing(&mut moved, Some(part), NormalsMode::Kratos, Some(&kept))
+                .unwrap();
+        assert_eq!(table, expected);
+        assert!(same(&moved, &expected_model));
+    }
+}

@@ -9,6 +9,7 @@ use csm_geometry::{Geometry, Kdop18};
 use csm_model::{
     ConditionId, ConditionIdx, Flag, KeptFaceNormals, ModelPart, NodalHMode, NodeIdx, NormalsMode,
     PartIdx, ScalarVar, UnitNormalsSnapshot, VectorVar, assign_nodal_h, compute_unit_normals,
+    compute_unit_normals_reusing,
 };
 use csm_trees::KdTree;
 use rayon::prelude::*;
@@ -31,8 +32,8 @@ use crate::setup::{
 };
 use crate::stages::{
     ContactParts, InterfaceSettings, NormalCheckSettings, SearchInstance, assign_contact_flags,
-    dispatch, generate_interface_conditions, master_slave_from_nodes, normal_check,
-    normal_check_normals_only, transfer_to_contact,
+    dispatch, generate_interface_conditions, master_slave_from_nodes,
+    normal_check_normals_only_with_normals, normal_check_with_normals, transfer_to_contact,
 };
 
 /// The search of one pair key (one Kratos search process).
@@ -76,6 +77,10 @@ pub struct ContactSearch {
     /// the second step on).
     steps_run: u32,
     warnings: Vec<String>,
+    /// The faces' unit normals of the normal check, until the first step's pairs compute
+    /// theirs from them (where the geometry has not changed since: [`KeptFaceNormals::
+    /// current_subset`]); dropped then.
+    initial_normals: Option<KeptFaceNormals>,
 }
 
 fn model_error(e: csm_model::Error) -> Error {
@@ -162,15 +167,15 @@ impl ContactSearch {
             compatibility: setup.compatibility,
             ..NormalCheckSettings::default()
         };
-        match plan.normal_check {
+        let initial_normals = match plan.normal_check {
             Decision::Used(NormalCheck::Full { .. }) => {
-                normal_check(model, &normal_settings)?;
+                Some(normal_check_with_normals(model, &normal_settings)?.1)
             }
             Decision::Used(NormalCheck::NormalsOnly) => {
-                normal_check_normals_only(model, &normal_settings)?;
+                Some(normal_check_normals_only_with_normals(model, &normal_settings)?.1)
             }
-            Decision::LeftOut(_) => {}
-        }
+            Decision::LeftOut(_) => None,
+        };
         crate::trace::mark("normal check");
         if plan.master_slave_from_nodes.is_used() {
             master_slave_from_nodes(model, parts.contact);
@@ -284,6 +289,7 @@ impl ContactSearch {
             database_step: 0,
             steps_run: 0,
             warnings,
+            initial_normals,
         })
     }
 
@@ -485,7 +491,8 @@ impl ContactSearch {
         }
         if searched {
             self.reset_marker(model);
-            for i in 0..self.pairs.len() {
+            let n_pairs = self.pairs.len();
+            for i in 0..n_pairs {
                 let run = RunMode::of(&self.setup);
                 let pair = &mut self.pairs[i];
                 // Every key of the setup has its pair plan (both come from `setup.pairs`).
@@ -493,7 +500,13 @@ impl ContactSearch {
                     continue;
                 };
                 clear_mortar_conditions(model, pair, run.compatibility)?;
-                let step_warnings = update_mortar_conditions(model, pair, pair_plan, run)?;
+                // The normal check's face normals serve every pair of the first step; the
+                // last one drops them (before its search).
+                let initial = InitialNormals {
+                    table: &mut self.initial_normals,
+                    last_user: i + 1 == n_pairs,
+                };
+                let step_warnings = update_mortar_conditions(model, pair, pair_plan, run, initial)?;
                 for w in step_warnings {
                     if !self.warnings.contains(&w) {
                         self.warnings.push(w);
@@ -803,11 +816,19 @@ fn clear_mortar_conditions(
 
 /// UpdateMortarConditions (§5) for the kd-tree path.
 /// Returns the warnings of the step (e.g. faces the octree cannot test).
+/// The normal check's face normals for a pair's step ([`ContactSearch::step`]).
+struct InitialNormals<'a> {
+    table: &'a mut Option<KeptFaceNormals>,
+    /// No later pair takes them: dropped once used.
+    last_user: bool,
+}
+
 fn update_mortar_conditions(
     model: &mut ModelPart,
     pair: &mut PairSearch,
     plan: &mut PairPlan,
     run: RunMode,
+    initial: InitialNormals<'_>,
 ) -> Result<Vec<String>, Error> {
     let compatibility = run.compatibility;
     let mut run_warnings = Vec::new();
@@ -838,7 +859,12 @@ fn update_mortar_conditions(
     };
     // The faces' own normals are kept for MappingCheck's mapping: nothing moves the nodes or
     // changes the condition normals before it.
-    let face_normals = compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
+    let face_normals =
+        compute_unit_normals_reusing(model, Some(sub), normals_mode, initial.table.as_ref())
+            .map_err(model_error)?;
+    if initial.last_user {
+        *initial.table = None;
+    }
     let face_normals = (p.check_gap == CheckGap::MappingCheck).then(|| face_normals.keep());
     crate::trace::mark("unit normals");
     // 3. The running id of created pairs: after the largest condition id of the root (the

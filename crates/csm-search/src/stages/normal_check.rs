@@ -40,8 +40,8 @@
 use csm_geometry::math::{Point, Vector};
 use csm_geometry::{Geometry, GeometryKind};
 use csm_model::{
-    ConditionId, ElementId, EntityKind, Flag, ModelPart, NodeIdx, NormalsMode, VectorVar,
-    compute_unit_normals,
+    ConditionId, ElementId, EntityKind, FaceNormals, Flag, KeptFaceNormals, ModelPart, NodeIdx,
+    NormalsMode, VectorVar, compute_unit_normals,
 };
 use rayon::prelude::*;
 
@@ -94,11 +94,21 @@ pub fn normal_check(
     model: &mut ModelPart,
     settings: &NormalCheckSettings,
 ) -> Result<NormalCheckReport, Error> {
+    normal_check_with_normals(model, settings).map(|(report, _)| report)
+}
+
+/// [`normal_check`], also returning the faces' unit normals it computed last (on the final
+/// coordinates and node orders: [`csm_model::compute_unit_normals_reusing`] takes them from
+/// there while the geometry does not change).
+pub fn normal_check_with_normals(
+    model: &mut ModelPart,
+    settings: &NormalCheckSettings,
+) -> Result<(NormalCheckReport, KeptFaceNormals), Error> {
     let kratos = settings.compatibility == Compatibility::Kratos;
     let lp = settings.length_proportion;
     let tol = settings.check_threshold;
     let mut report = NormalCheckReport::default();
-    compute_normals(model)?;
+    let mut faces = compute_normals(model)?;
 
     // Backup of MARKER, then reset.
     let backup = MarkerBackup::take(model);
@@ -145,7 +155,7 @@ pub fn normal_check(
     // The unit normals depend on the conditions only (coordinates and node order): without an
     // inverted condition they are the ones just computed.
     if !report.inverted_conditions.is_empty() {
-        compute_normals(model)?;
+        faces = compute_normals(model)?;
     }
     reset_marker(model, true, true, true);
 
@@ -181,11 +191,11 @@ pub fn normal_check(
     invert_marked_conditions(model, kratos);
     reset_marker(model, true, false, true);
     if !report.inverted_conditions_by_nodes.is_empty() {
-        compute_normals(model)?;
+        faces = compute_normals(model)?;
     }
 
     backup.restore(model, kratos);
-    Ok(report)
+    Ok((report, faces))
 }
 
 /// Stage 2 on a model without solid elements: what [`normal_check`] leaves behind there, at
@@ -200,6 +210,15 @@ pub fn normal_check_normals_only(
     model: &mut ModelPart,
     settings: &NormalCheckSettings,
 ) -> Result<NormalCheckReport, Error> {
+    normal_check_normals_only_with_normals(model, settings).map(|(report, _)| report)
+}
+
+/// [`normal_check_normals_only`], also returning the faces' unit normals it computed (as
+/// [`normal_check_with_normals`]).
+pub fn normal_check_normals_only_with_normals(
+    model: &mut ModelPart,
+    settings: &NormalCheckSettings,
+) -> Result<(NormalCheckReport, KeptFaceNormals), Error> {
     let kratos = settings.compatibility == Compatibility::Kratos;
     let report = NormalCheckReport {
         slender_elements: model
@@ -212,11 +231,11 @@ pub fn normal_check_normals_only(
         ..NormalCheckReport::default()
     };
     debug_assert!(report.slender_elements.len() == model.elements().len());
-    compute_normals(model)?;
+    let faces = compute_normals(model)?;
     let backup = MarkerBackup::take(model);
     reset_marker(model, true, true, true);
     backup.restore(model, kratos);
-    Ok(report)
+    Ok((report, faces))
 }
 
 /// The number of solid elements (local dimension = working dimension) in the model: the
@@ -507,9 +526,11 @@ impl MarkerBackup {
     }
 }
 
-fn compute_normals(model: &mut ModelPart) -> Result<(), Error> {
+/// The unit normals of every condition; the faces' own normals kept (without the centre
+/// normals, which the condition normals hold).
+fn compute_normals(model: &mut ModelPart) -> Result<KeptFaceNormals, Error> {
     compute_unit_normals(model, None, NormalsMode::Kratos)
-        .map(drop)
+        .map(FaceNormals::keep)
         .map_err(|e| match e.kind() {
             csm_model::ErrorKind::Geometry {
                 entity: EntityKind::Condition,
