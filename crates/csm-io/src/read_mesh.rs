@@ -30,9 +30,50 @@ pub fn read_mesh(path: &Path) -> Result<ModelPart, Error> {
             ErrorKind::FormatNotCompiled(ext),
         ));
     }
-    let bytes = std::fs::read(path)
+    let bytes = read_file(path)
         .map_err(|e| Error::new(&file, Location::None, ErrorKind::Io(e.to_string())))?;
     read_bytes(&ext, &bytes, &file)
+}
+
+/// The bytes of the file at `path`. A large file is read in pieces in parallel where rayon is
+/// compiled in (the `mdpa` feature) and has more than one thread: most of its read time is
+/// the copy out of the page cache and the first touch of the buffer's pages, which then
+/// share the work. The same bytes as [`std::fs::read`], which reads everything else (and a
+/// file whose length changes while it is read).
+fn read_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    #[cfg(all(unix, feature = "mdpa"))]
+    if let Some(bytes) = read_file_in_pieces(path)? {
+        return Ok(bytes);
+    }
+    std::fs::read(path)
+}
+
+/// [`read_file`]'s parallel read: `None` where it does not apply (a small file, one thread,
+/// a length that changed).
+#[cfg(all(unix, feature = "mdpa"))]
+fn read_file_in_pieces(path: &Path) -> std::io::Result<Option<Vec<u8>>> {
+    use rayon::prelude::*;
+    use std::os::unix::fs::FileExt;
+    /// The bytes of one piece.
+    const PIECE: usize = 4 << 20;
+    let file = std::fs::File::open(path)?;
+    let Ok(len) = usize::try_from(file.metadata()?.len()) else {
+        return Ok(None);
+    };
+    if len < 2 * PIECE || rayon::current_num_threads() < 2 {
+        return Ok(None);
+    }
+    let mut bytes = vec![0u8; len];
+    let read = bytes
+        .par_chunks_mut(PIECE)
+        .enumerate()
+        .try_for_each(|(i, piece)| file.read_exact_at(piece, (i * PIECE) as u64));
+    // A file that got shorter (an early end) or longer (a byte after `len`) meanwhile.
+    let mut more = [0u8; 1];
+    if read.is_err() || file.read_at(&mut more, len as u64)? != 0 {
+        return Ok(None);
+    }
+    Ok(Some(bytes))
 }
 
 #[cfg(all(feature = "msh", feature = "mdpa"))]
