@@ -370,7 +370,8 @@ fn result_json(
     String::from_utf8(text).map_err(|e| format!("cannot format JSON: {e}"))
 }
 
-/// Streams RESULT.json to `path` (no copy of the whole text in memory).
+/// Streams RESULT.json to `path` (no copy of the whole text in memory; written a megabyte at
+/// a time).
 fn write_result(
     path: &Path,
     result: &csm::search::SearchResult,
@@ -379,7 +380,7 @@ fn write_result(
     use std::io::Write;
     let file = std::fs::File::create(path)
         .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
-    let mut writer = std::io::BufWriter::new(file);
+    let mut writer = std::io::BufWriter::with_capacity(1 << 20, file);
     result
         .write_json(&timings.entries(), &mut writer)
         .and_then(|()| writer.flush())
