@@ -232,6 +232,80 @@ struct WeightedGapInputs<'a> {
     dim: usize,
 }
 
+/// How the mapping keeps a pair's operators for its iterations.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum OperatorStore {
+    /// `D` and `M` ([`MortarOperators::pack_into`]).
+    Operators,
+    /// `D` and the products `M · v_k` of the master values of the `dim` components
+    /// ([`MortarOperators::pack_with_products_into`]): where no master node is a slave node,
+    /// the master values (`AUXILIAR_COORDINATES`: the coordinates, or zero when `!origin`)
+    /// do not change during the iterations, and the residual's `M · v` part is the same in
+    /// every iteration, bit for bit.
+    MasterProducts { origin: bool, dim: usize },
+}
+
+impl OperatorStore {
+    /// The store of a mapping between the sides `s` (`origin`: not inverted; `dim`
+    /// components): the master values stay as the mapping sets them through the iterations
+    /// unless a master node is also a slave node (the iterations update the slave nodes).
+    pub(crate) fn for_sides(s: &Sides, n_nodes: usize, origin: bool, dim: usize) -> OperatorStore {
+        #[cfg(test)]
+        if crate::tests::FORCE_OPERATORS.with(std::cell::Cell::get) {
+            return OperatorStore::Operators;
+        }
+        let mut slave = vec![false; n_nodes];
+        for n in &s.slave_nodes {
+            slave[n.index()] = true;
+        }
+        if s.master_nodes
+            .iter()
+            .any(|n| slave.get(n.index()) == Some(&true))
+        {
+            OperatorStore::Operators
+        } else {
+            OperatorStore::MasterProducts { origin, dim }
+        }
+    }
+
+    /// The number of values [`pack`](Self::pack) appends for `ns` slave and `nm` master
+    /// nodes.
+    fn packed_len(self, ns: usize, nm: usize) -> usize {
+        match self {
+            OperatorStore::Operators => MortarOperators::packed_len(ns, nm),
+            OperatorStore::MasterProducts { dim, .. } => {
+                MortarOperators::packed_with_products_len(ns, dim)
+            }
+        }
+    }
+
+    /// Appends the operators of the pair with master `mc` to `out`.
+    fn pack(
+        self,
+        model: &ModelPart,
+        mc: ConditionIdx,
+        operators: &MortarOperators,
+        out: &mut Vec<Real>,
+    ) {
+        match self {
+            OperatorStore::Operators => operators.pack_into(out),
+            OperatorStore::MasterProducts { origin, dim } => {
+                let coords = model.nodes().coordinates();
+                let mut values = [[0.0; MAX_FACE_NODES]; 3];
+                let nodes = model.conditions().nodes(mc.index());
+                for (k, component) in values.iter_mut().enumerate().take(dim) {
+                    for (v, n) in component.iter_mut().zip(nodes) {
+                        *v = if origin { coords[n.index()][k] } else { 0.0 };
+                    }
+                }
+                let nm = nodes.len();
+                let rows = [&values[0][..nm], &values[1][..nm], &values[2][..nm]];
+                operators.pack_with_products_into(&rows[..dim], out);
+            }
+        }
+    }
+}
+
 /// Segments every INDEX_MAP entry of slave condition `sc`: entries without overlap are
 /// removed; the others get the dual basis and the mapper's `D`, `M` operators (appended to
 /// `out`).
@@ -239,7 +313,7 @@ fn map_slave(
     model: &ModelPart,
     sc: ConditionIdx,
     (seg_settings, op_settings): (&SegmentationSettings, &OperatorSettings),
-    weighted_gap: Option<WeightedGapInputs<'_>>,
+    (store, weighted_gap): (OperatorStore, Option<WeightedGapInputs<'_>>),
     out: &mut SlaveMapping,
 ) -> Result<(), Error> {
     let entries: Vec<(ConditionId, Option<ConditionId>)> = model.index_map(sc).iter().collect();
@@ -276,7 +350,8 @@ fn map_slave(
         let gps = integration_points(&slave, &master, &seg, op_settings)
             .map_err(|e| Error::condition("mortar integration", slave_id, &e))?;
         let basis = dual_basis(&slave, &gps);
-        mortar_operators(&slave, &master, &gps, Some(&basis)).pack_into(&mut out.operators);
+        let operators = mortar_operators(&slave, &master, &gps, Some(&basis));
+        store.pack(model, mc, &operators, &mut out.operators);
         out.kept.push((sc, mc));
         // The weighted gap's segmentation of a face pair would be this one: it depends on
         // the coordinates and the slave's condition normal only (not on the nodal normals,
@@ -484,6 +559,7 @@ fn normal_gap_process_inner(
         distance_threshold: settings.distance_threshold,
     };
     let op_settings = OperatorSettings::mapper();
+    let store = OperatorStore::for_sides(&s, n_nodes, o, dim);
     let mut report = MappingReport::default();
     // Every slave condition's entries in parallel; kept and removed entries are collected in
     // slave-condition order, as Kratos' loop visits them. The kept pairs stay in the per-slave
@@ -509,7 +585,13 @@ fn normal_gap_process_inner(
                 out.gaps.reserve_exact(entries);
             }
             for &sc in chunk {
-                map_slave(m, sc, (&seg_settings, &op_settings), weighted_gap, &mut out)?;
+                map_slave(
+                    m,
+                    sc,
+                    (&seg_settings, &op_settings),
+                    (store, weighted_gap),
+                    &mut out,
+                )?;
             }
             out.kept.shrink_to_fit();
             out.operators.shrink_to_fit();
@@ -549,7 +631,7 @@ fn normal_gap_process_inner(
             mapped.kept.iter().map(move |&(sc, mc)| {
                 let ns = m.conditions().nodes(sc.index()).len();
                 let nm = m.conditions().nodes(mc.index()).len();
-                let (packed, next) = rest.split_at(MortarOperators::packed_len(ns, nm));
+                let (packed, next) = rest.split_at(store.packed_len(ns, nm));
                 rest = next;
                 (sc, mc, packed)
             })
@@ -574,16 +656,33 @@ fn normal_gap_process_inner(
             let master_nodes = model.conditions().nodes(mc.index());
             let (nm, ns) = (master_nodes.len(), slave_nodes.len());
             for k in 0..dim {
-                let mut mv = [0.0; MAX_FACE_NODES];
                 let mut sv = [0.0; MAX_FACE_NODES];
                 let mut r = [0.0; MAX_FACE_NODES];
-                for (v, n) in mv.iter_mut().zip(master_nodes) {
-                    *v = aux[n.index()][k];
-                }
                 for (v, n) in sv.iter_mut().zip(slave_nodes) {
                     *v = aux[n.index()][k];
                 }
-                MortarOperators::packed_residual_into(packed, &mv[..nm], &sv[..ns], &mut r[..ns]);
+                match store {
+                    OperatorStore::Operators => {
+                        let mut mv = [0.0; MAX_FACE_NODES];
+                        for (v, n) in mv.iter_mut().zip(master_nodes) {
+                            *v = aux[n.index()][k];
+                        }
+                        MortarOperators::packed_residual_into(
+                            packed,
+                            &mv[..nm],
+                            &sv[..ns],
+                            &mut r[..ns],
+                        );
+                    }
+                    OperatorStore::MasterProducts { .. } => {
+                        MortarOperators::packed_products_residual_into(
+                            packed,
+                            (k, dim),
+                            &sv[..ns],
+                            &mut r[..ns],
+                        );
+                    }
+                }
                 for (i, n) in slave_nodes.iter().enumerate() {
                     vaux[n.index()][k] += r[i];
                 }

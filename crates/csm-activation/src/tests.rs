@@ -502,3 +502,75 @@ fn known_gaps_cursor_answers_as_a_binary_search() {
     }
     assert!(hits > 2000 && misses > 4000, "{hits} hits, {misses} misses");
 }
+
+thread_local! {
+    /// Makes the mapping keep `D` and `M` where it would keep the master values' products.
+    pub(crate) static FORCE_OPERATORS: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// The mapping that keeps the master values' products in place of `M` maps as the one that
+/// keeps `M`, bit for bit (report, NORMAL_GAP, NODAL_AREA, AUXILIAR_COORDINATES), on warped
+/// faces, not inverted and inverted (master values zero); a master node that is also a slave
+/// node makes it keep `M`.
+#[test]
+fn master_products_map_as_the_operators() {
+    let (mut base, sub) = scene(0.01);
+    for (node, dz) in [(2, 0.05), (6, -0.03), (7, 0.02)] {
+        base.nodes_mut().coordinates_mut()[node].z += dz;
+    }
+    let bits = |m: &ModelPart| {
+        let data = m.nodal_data();
+        let scalars = [ScalarVar::NormalGap, ScalarVar::NodalArea].map(|v| {
+            data.scalar(v, 0)
+                .unwrap()
+                .iter()
+                .map(|x| x.to_bits())
+                .collect::<Vec<_>>()
+        });
+        let aux: Vec<[u64; 3]> = data
+            .vector(VectorVar::AuxiliarCoordinates, 0)
+            .unwrap()
+            .iter()
+            .map(|v| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()])
+            .collect();
+        (scalars, aux)
+    };
+    for inverted in [false, true] {
+        let mut model = base.clone();
+        if inverted {
+            // The inverted slave side (condition 2) searched condition 1.
+            model
+                .index_map_mut(ConditionIdx(0))
+                .remove_id(ConditionId(2));
+            model
+                .index_map_mut(ConditionIdx(0))
+                .remove_id(ConditionId(3));
+            model.index_map_mut(ConditionIdx(1)).add_id(ConditionId(1));
+        }
+        let settings = MappingSettings {
+            inverted,
+            ..settings()
+        };
+        let s = crate::mapping::sides(&model, sub, inverted);
+        assert!(matches!(
+            crate::mapping::OperatorStore::for_sides(&s, model.nodes().len(), !inverted, 3),
+            crate::mapping::OperatorStore::MasterProducts { .. }
+        ));
+        let mut with_products = model.clone();
+        let a = normal_gap_process(&mut with_products, sub, &settings, None).unwrap();
+        FORCE_OPERATORS.with(|f| f.set(true));
+        let b = normal_gap_process(&mut model, sub, &settings, None);
+        FORCE_OPERATORS.with(|f| f.set(false));
+        let b = b.unwrap();
+        assert_eq!(a, b, "inverted: {inverted}");
+        assert_eq!(a.kept, 1, "inverted: {inverted}");
+        assert_eq!(bits(&with_products), bits(&model), "inverted: {inverted}");
+    }
+    // Node 5 on both sides.
+    base.nodes_mut().flags_mut()[4].set(Flag::SLAVE, true);
+    let s = crate::mapping::sides(&base, sub, false);
+    assert!(matches!(
+        crate::mapping::OperatorStore::for_sides(&s, base.nodes().len(), true, 3),
+        crate::mapping::OperatorStore::Operators
+    ));
+}

@@ -74,6 +74,59 @@ impl MortarOperators {
     }
 }
 
+impl MortarOperators {
+    /// The number of values [`pack_with_products_into`](Self::pack_with_products_into)
+    /// appends for `slave_nodes` and `components` components.
+    pub fn packed_with_products_len(slave_nodes: usize, components: usize) -> usize {
+        slave_nodes * (slave_nodes + components)
+    }
+
+    /// Appends `D`, row by row, then the products `M · v_k` of each component `k` of the master
+    /// values `master_values[k]` (slave node order): for master values that do not change
+    /// while the residual is evaluated again and again (the mapper's master side), the store
+    /// of `M` is replaced by the one part of the residual it enters.
+    pub fn pack_with_products_into(&self, master_values: &[&[Real]], out: &mut Vec<Real>) {
+        for i in 0..self.d.nrows() {
+            out.extend_from_slice(self.d.row(i));
+        }
+        for values in master_values {
+            for i in 0..self.m.nrows() {
+                out.push(row_product(self.m.row(i), values));
+            }
+        }
+    }
+
+    /// [`residual_into`](Self::residual_into) of component `k` from the operators packed by
+    /// [`pack_with_products_into`](Self::pack_with_products_into) (`slave_values.len()` slave
+    /// nodes, `components` components): bit for bit the residual of the master values packed.
+    pub fn packed_products_residual_into(
+        packed: &[Real],
+        (k, components): (usize, usize),
+        slave_values: &[Real],
+        out: &mut [Real],
+    ) {
+        let ns = slave_values.len();
+        debug_assert_eq!(
+            packed.len(),
+            MortarOperators::packed_with_products_len(ns, components)
+        );
+        let (d, products) = packed.split_at(ns * ns);
+        let products = &products[k * ns..(k + 1) * ns];
+        for (i, o) in out.iter_mut().enumerate().take(ns) {
+            *o = products[i] - row_product(&d[i * ns..(i + 1) * ns], slave_values);
+        }
+    }
+}
+
+/// `Σ_j a_j v_j` in index order from 0 (one row of a ublas `prod`).
+fn row_product(row: &[Real], values: &[Real]) -> Real {
+    let mut sum = 0.0;
+    for (a, v) in row.iter().zip(values) {
+        sum += a * v;
+    }
+    sum
+}
+
 /// One row of the mapper residual, `Σ_j M_ij v_j − Σ_j D_ij s_j`, each sum in index order
 /// from 0 (ublas' `prod(M, V) − prod(D, S)`).
 fn row_residual(
@@ -82,15 +135,7 @@ fn row_residual(
     d_row: &[Real],
     slave_values: &[Real],
 ) -> Real {
-    let mut mv = 0.0;
-    for (m, v) in m_row.iter().zip(master_values) {
-        mv += m * v;
-    }
-    let mut ds = 0.0;
-    for (d, v) in d_row.iter().zip(slave_values) {
-        ds += d * v;
-    }
-    mv - ds
+    row_product(m_row, master_values) - row_product(d_row, slave_values)
 }
 
 /// `D` and `M` integrated over the Gauss points of one pair with `Φ = Ae · N_s` (`basis`) or

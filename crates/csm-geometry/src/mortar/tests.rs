@@ -438,7 +438,8 @@ mod with_normals {
 }
 
 /// Packed operators give the residual of the operators themselves, bit for bit, for every
-/// size of slave and master face, and `packed_len` is what `pack_into` appends.
+/// size of slave and master face, and `packed_len` is what `pack_into` appends; so do the
+/// operators packed with the master values' products.
 #[test]
 fn packed_operators_give_the_same_residual() {
     // A deterministic spread of values over many magnitudes and both signs.
@@ -472,8 +473,26 @@ fn packed_operators_give_the_same_residual() {
         let mut b = [0.0; 4];
         ops.residual_into(&mv, &sv, &mut a[..ns]);
         MortarOperators::packed_residual_into(&packed[1..], &mv, &sv, &mut b[..ns]);
+        // With the products of three components' master values, the second being `mv`.
+        let other: Vec<Vec<Real>> = (0..2).map(|_| (0..nm).map(|_| next()).collect()).collect();
+        let mut with_products = vec![7.0];
+        ops.pack_with_products_into(&[&other[0], &mv, &other[1]], &mut with_products);
+        let len = MortarOperators::packed_with_products_len(ns, 3);
+        assert_eq!(with_products.len(), 1 + len);
+        let mut c = [0.0; 4];
+        MortarOperators::packed_products_residual_into(
+            &with_products[1..],
+            (1, 3),
+            &sv,
+            &mut c[..ns],
+        );
         for i in 0..ns {
             assert_eq!(a[i].to_bits(), b[i].to_bits(), "{ns}x{nm} row {i}");
+            assert_eq!(
+                a[i].to_bits(),
+                c[i].to_bits(),
+                "{ns}x{nm} row {i}, products"
+            );
             // Both are the residual M·v − D·s.
             let direct: Real = (0..nm).map(|j| ops.m[(i, j)] * mv[j]).sum::<Real>()
                 - (0..ns).map(|j| ops.d[(i, j)] * sv[j]).sum::<Real>();
