@@ -195,19 +195,19 @@ pub fn integration_points_with_normals(
     points: &[MortarIntegrationPoint],
 ) -> Result<Vec<MortarIntegrationPoint>, Error> {
     let master_solver = LocalCoordinatesSolver::new(*master.geometry());
-    points
-        .iter()
-        .map(|gp| {
-            let (normal, master_global, master_local) =
-                master_side(slave, master, &master_solver, &gp.global, &gp.slave_local)?;
-            Ok(MortarIntegrationPoint {
-                normal,
-                master_global,
-                master_local,
-                ..*gp
-            })
-        })
-        .collect()
+    // Room for every point at once (a collect through `Result` would grow the list).
+    let mut out = Vec::with_capacity(points.len());
+    for gp in points {
+        let (normal, master_global, master_local) =
+            master_side(slave, master, &master_solver, &gp.global, &gp.slave_local)?;
+        out.push(MortarIntegrationPoint {
+            normal,
+            master_global,
+            master_local,
+            ..*gp
+        });
+    }
+    Ok(out)
 }
 
 /// Gauss rule of a cell as (shape-function values of the cell at the point, weight): Line2D2
