@@ -91,7 +91,8 @@ fn model_error(e: csm_model::Error) -> Error {
 fn conditions_by_id(model: &ModelPart, part: PartIdx) -> Vec<ConditionIdx> {
     let mut v = model.part(part).conditions().to_vec();
     let ids = model.conditions().ids();
-    v.sort_by_key(|c| ids[c.index()]);
+    // Ids are unique: one order, whatever the sort.
+    v.par_sort_unstable_by_key(|c| ids[c.index()]);
     v
 }
 
@@ -1183,7 +1184,7 @@ pub(crate) struct TruthScene {
 pub(crate) fn morton_order(model: &ModelPart, slaves: &[ConditionIdx]) -> Vec<usize> {
     let coords = model.nodes().coordinates();
     let centres: Vec<Point> = slaves
-        .iter()
+        .par_iter()
         .map(|c| {
             let nodes = model.conditions().nodes(c.index());
             let sum = nodes
@@ -1217,7 +1218,7 @@ pub(crate) fn morton_order(model: &ModelPart, slaves: &[ConditionIdx]) -> Vec<us
         v
     };
     let mut keyed: Vec<(u64, usize)> = centres
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(i, p)| {
             let code = spread(quantise(p.x, 0))
@@ -1226,7 +1227,8 @@ pub(crate) fn morton_order(model: &ModelPart, slaves: &[ConditionIdx]) -> Vec<us
             (code, i)
         })
         .collect();
-    keyed.sort_unstable();
+    // The positions are unique: one order, whatever the sort.
+    keyed.par_sort_unstable();
     keyed.into_iter().map(|(_, i)| i).collect()
 }
 
@@ -1318,7 +1320,7 @@ fn kdtree_search(
     let check = !inverted || !p.predefined_master_slave;
     let conditions = conditions_by_id(model, sub);
     let points: Vec<(u32, csm_geometry::math::Point)> = conditions
-        .iter()
+        .par_iter()
         .filter(|c| model.conditions().flags()[c.index()].is(Flag::MASTER) == check)
         .map(|c| {
             let nodes = model.conditions().nodes(c.index());
