@@ -115,7 +115,7 @@ fn bits(p: &Point) -> [u64; 3] {
 
 impl PointMemo {
     /// The master node `x`'s entry (its position in `master`), computed with `project` if new;
-    /// `None` where the memo is full and `x` not in it.
+    /// `Err` with the computed entry where the memo is full and `x` not in it.
     fn master_slot(
         &mut self,
         x: &Point,

@@ -815,8 +815,6 @@ fn clear_mortar_conditions(
     Ok(())
 }
 
-/// UpdateMortarConditions (§5) for the kd-tree path.
-/// Returns the warnings of the step (e.g. faces the octree cannot test).
 /// The normal check's face normals for a pair's step ([`ContactSearch::step`]).
 struct InitialNormals<'a> {
     table: &'a mut Option<KeptFaceNormals>,
@@ -824,6 +822,8 @@ struct InitialNormals<'a> {
     last_user: bool,
 }
 
+/// UpdateMortarConditions (§5) for the kd-tree path.
+/// Returns the warnings of the step (e.g. faces the octree cannot test).
 fn update_mortar_conditions(
     model: &mut ModelPart,
     pair: &mut PairSearch,
