@@ -7,6 +7,16 @@ fn p(x: f64, y: f64, z: f64) -> Point {
 }
 
 #[track_caller]
+/// A reproducible sequence of numbers in [−½, ½) (xorshift64 from `seed`).
+fn uniform(mut state: u64) -> impl FnMut() -> f64 {
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    }
+}
+
 fn check_close(a: f64, b: f64, tol: f64) {
     assert!((a - b).abs() <= tol, "{a} vs {b}");
 }
@@ -541,13 +551,7 @@ fn global_coordinates_fast_paths_equal_the_shape_functions_bit_for_bit() {
 #[test]
 fn local_coordinates_solver_matches_the_geometry_bit_for_bit() {
     use crate::LocalCoordinatesSolver;
-    let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut next = uniform(0x9E37_79B9_7F4A_7C15);
     let kinds = [
         (GeometryKind::Quadrilateral3D4, 4),
         (GeometryKind::Triangle3D3, 3),
@@ -634,13 +638,7 @@ fn the_outside_certificate_gives_the_iterations_answer() {
     use super::quad_outside::QuadOutside;
     use crate::LocalCoordinatesSolver;
     use crate::math::EPS;
-    let mut state = 0x2545_F491_4F6C_DD1Du64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut next = uniform(0x2545_F491_4F6C_DD1D);
     let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
     let (mut certified, mut outside, mut compared) = (0, 0, 0);
     for case in 0..600 {
