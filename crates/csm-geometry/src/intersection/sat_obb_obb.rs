@@ -153,16 +153,6 @@ fn witness(obb1: &Obb, obb2: &Obb) -> bool {
     let size: Real =
         t.norm() + obb1.half_lengths.iter().sum::<Real>() + obb2.half_lengths.iter().sum::<Real>();
     let m = WITNESS_MARGIN * size + WITNESS_ROUNDING_EPS * EPS * c1.amax().max(c2.amax());
-    let a2 = &obb2.axes;
-    for i in 0..3 {
-        for j in i..3 {
-            let target = if i == j { 1.0 } else { 0.0 };
-            let deviation = (a2[i].dot(&a2[j]) - target).abs();
-            if deviation.is_nan() || deviation > WITNESS_ORTHONORMAL {
-                return false;
-            }
-        }
-    }
     let mut q = *c1;
     for (a, h) in obb1.axes.iter().zip(&obb1.half_lengths) {
         let limit = h - m;
@@ -172,9 +162,28 @@ fn witness(obb1: &Obb, obb2: &Obb) -> bool {
         q += a * t.dot(a).clamp(-limit, limit);
     }
     let d = q - c2;
-    a2.iter()
+    let a2 = &obb2.axes;
+    let inside = a2
+        .iter()
         .zip(&obb2.half_lengths)
-        .all(|(a, h)| d.dot(a).abs() <= h - m)
+        .all(|(a, h)| d.dot(a).abs() <= h - m);
+    // The proof needs `obb2`'s axes orthonormal (checked last: most points that are not
+    // inside never need it).
+    inside && orthonormal(a2)
+}
+
+/// Whether `axes` are orthonormal within [`WITNESS_ORTHONORMAL`] (false for NaN).
+fn orthonormal(axes: &[Vector; 3]) -> bool {
+    for i in 0..3 {
+        for j in i..3 {
+            let target = if i == j { 1.0 } else { 0.0 };
+            let deviation = (axes[i].dot(&axes[j]) - target).abs();
+            if deviation.is_nan() || deviation > WITNESS_ORTHONORMAL {
+                return false;
+            }
+        }
+    }
+    true
 }
 
 /// SAT between two 2D OBBs: `A1_0, A1_1, A2_0, A2_1`, then the 4 cross products (parallel to
