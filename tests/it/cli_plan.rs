@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-use crate::{csm, repo_mesh, scratch};
+use crate::{csm, repo_mesh};
 
 const SETUP_2D_STATIC: &str = r#"{
     "contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
@@ -21,9 +21,7 @@ const SETUP_3D_DYNAMIC: &str = r#"{
 }"#;
 
 fn write(name: &str, text: &str) -> PathBuf {
-    let path = scratch(name);
-    std::fs::write(&path, text).unwrap();
-    path
+    crate::write_scratch(name, text)
 }
 
 /// The sphere-on-plate scene with a VELOCITY of −0.01 along z on every node of `Parts_Slave`

@@ -333,9 +333,7 @@ fn check_error(args: &[&str], expect_in_message: &str) {
 }
 
 fn write_setup(name: &str, text: &str) -> std::path::PathBuf {
-    let path = scratch(name);
-    std::fs::write(&path, text).unwrap();
-    path
+    crate::write_scratch(name, text)
 }
 
 #[test]

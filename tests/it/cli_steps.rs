@@ -3,12 +3,10 @@
 
 use serde_json::Value;
 
-use crate::{RESULT_KEYS, csm, csm_json, repo_mesh, result_keys, scratch};
+use crate::{RESULT_KEYS, csm, csm_json, repo_mesh, result_keys};
 
 fn write_setup(name: &str, text: &str) -> std::path::PathBuf {
-    let path = scratch(name);
-    std::fs::write(&path, text).unwrap();
-    path
+    crate::write_scratch(name, text)
 }
 
 /// The boxes mesh (`slave` quads on `master` triangles) with `steps` moving `block_upper`.

@@ -75,3 +75,16 @@ pub fn scratch(name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).expect("scratch dir");
     dir.join(name)
 }
+
+/// Writes `text` to the scratch file `name` and returns its path. The file is replaced whole
+/// (written beside it, then renamed over it): tests that run at the same time and write the
+/// same file never let a `csm` run of another read it half written or empty.
+pub fn write_scratch(name: &str, text: &str) -> PathBuf {
+    static WRITES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let path = scratch(name);
+    let n = WRITES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let partial = scratch(&format!("{name}.{}.{n}.partial", std::process::id()));
+    std::fs::write(&partial, text).expect("scratch file");
+    std::fs::rename(&partial, &path).expect("scratch file in place");
+    path
+}
