@@ -1,12 +1,11 @@
 //! NormalGapProcess and the explicit dual-mortar mapper (reference §10.1 a–b, §10.2).
 
 use csm_geometry::math::{EPS, Point, Real, Vector, norm_kratos};
-use csm_geometry::{
-    DualBasis, MortarFace, MortarIntegrationPoint, MortarMode, MortarOperators, OperatorSettings,
-    Segmentation, SegmentationSettings, SlaveSegmentation, dual_basis, integration_points,
-    mortar_operators,
-};
 use csm_geometry::{Geometry, MAX_FACE_NODES, MAX_MORTAR_FACE_NODES};
+use csm_geometry::{
+    MortarFace, MortarMode, MortarOperators, OperatorSettings, Segmentation, SegmentationSettings,
+    SlaveSegmentation, dual_basis, integration_points, mortar_operators,
+};
 use csm_model::{
     ConditionId, ConditionIdx, FaceNormals, Flag, GATHER_BLOCK, GatheredPoints, KeptFaceNormals,
     ModelPart, NodeIdx, PartIdx, ScalarVar, VectorVar,
@@ -15,7 +14,9 @@ use csm_model::{
 use rayon::prelude::*;
 
 use crate::error::Error;
-use crate::weighted_gap::{KnownGap, KnownGaps, PairGap, segmented_pair_gap, slave_area};
+use crate::weighted_gap::{
+    FirstPass, KnownGap, KnownGaps, PairGap, segmented_pair_gap, slave_area,
+};
 
 /// `NORMAL_GAP` before the mapping (CheckPairing step a): a slave node nothing was mapped onto
 /// keeps it.
@@ -324,8 +325,10 @@ fn map_slave(
     let slave = make_face(model, sc, &sdata)?;
     let segmentation = SlaveSegmentation::new(&slave, seg_settings);
     let slave_id = model.conditions().ids()[sc.index()];
-    // With the weighted gap: the slave's face data with its nodal normals, and its area.
-    let mut slave_for_gap: Option<(FaceData, Result<Real, Error>)> = None;
+    // With the weighted gap: the slave's face data with its nodal normals, its area, and
+    // whether those nodal normals are the mapper's, bit for bit (then so are the weighted
+    // gap's Gauss points and operators: `FirstPass`).
+    let mut slave_for_gap: Option<(FaceData, Result<Real, Error>, bool)> = None;
     for (master_id, paired) in entries {
         let Some(mc) = model
             .conditions()
@@ -359,15 +362,17 @@ fn map_slave(
         if let Some(inputs) = weighted_gap
             && slave.geometry().kind().local_dim() == 2
         {
-            let (slave_u, area) = slave_for_gap
-                .get_or_insert_with(|| slave_gap_data(model, sc, &sdata, inputs.unit_normals));
-            let gap = kept_pair_gap(
-                model,
-                (sc, mc),
-                (&seg, &gps, &basis),
-                (slave_u, area),
-                inputs,
-            );
+            let (slave_u, area, same_normals) = slave_for_gap.get_or_insert_with(|| {
+                let (data, area) = slave_gap_data(model, sc, &sdata, inputs.unit_normals);
+                let same = same_bits(&data.nodal_normals, &sdata.nodal_normals);
+                (data, area, same)
+            });
+            let first = FirstPass {
+                points: &gps,
+                basis: &basis,
+                operators: same_normals.then_some(&operators),
+            };
+            let gap = kept_pair_gap(model, (sc, mc), (&seg, first), (slave_u, area), inputs);
             out.gaps.push(((sc, mc), gap));
         }
     }
@@ -380,7 +385,7 @@ fn map_slave(
 fn kept_pair_gap(
     model: &ModelPart,
     (sc, mc): (ConditionIdx, ConditionIdx),
-    (seg, gps, basis): (&Segmentation, &[MortarIntegrationPoint], &DualBasis),
+    (seg, first): (&Segmentation, FirstPass<'_>),
     (sdata, slave_area): (&FaceData, &Result<Real, Error>),
     inputs: WeightedGapInputs<'_>,
 ) -> Result<Option<PairGap>, Error> {
@@ -394,9 +399,19 @@ fn kept_pair_gap(
         sc,
         (sdata, &slave, slave_area),
         (&mdata, &master),
-        (seg, Some((gps, basis))),
+        (seg, Some(first)),
         inputs.dim,
     )
+}
+
+/// Whether `a` and `b` hold the same vectors, bit for bit.
+fn same_bits(a: &[Vector], b: &[Vector]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(u, v)| {
+            u.iter()
+                .zip(v.iter())
+                .all(|(x, y)| x.to_bits() == y.to_bits())
+        })
 }
 
 /// The slave's face data with the weighted gap's nodal normals (`sdata` with other nodal

@@ -2,9 +2,9 @@
 
 use csm_geometry::math::Real;
 use csm_geometry::{
-    DualBasis, MortarIntegrationPoint, MortarMode, OperatorSettings, SegmentationSettings,
-    dual_basis, exact_segmentation, integration_points, integration_points_with_normals,
-    mortar_operators,
+    DualBasis, MortarIntegrationPoint, MortarMode, MortarOperators, OperatorSettings,
+    SegmentationSettings, dual_basis, exact_segmentation, integration_points,
+    integration_points_with_normals, mortar_operators,
 };
 use csm_geometry::{Geometry, MAX_MORTAR_FACE_NODES, MortarFace, Segmentation};
 use csm_model::{ConditionIdx, ModelPart, PartIdx, ScalarVar};
@@ -257,6 +257,17 @@ pub(crate) fn slave_area(
         .map_err(|e| Error::condition("area", model.conditions().ids()[sc.index()], &e))
 }
 
+/// The mapper's work on a pair that [`segmented_pair_gap`] reuses.
+#[derive(Clone, Copy)]
+pub(crate) struct FirstPass<'a> {
+    /// The mapper's Gauss points.
+    pub points: &'a [MortarIntegrationPoint],
+    /// The mapper's dual basis.
+    pub basis: &'a DualBasis,
+    /// The mapper's operators, where the weighted gap's slave nodal normals are the mapper's.
+    pub operators: Option<&'a MortarOperators>,
+}
+
 /// The weighted-gap contribution of a pair from its segmentation `seg` (explicit operator
 /// settings; the faces carry the nodal normals the weighted gap uses; `slave_area` from
 /// [`slave_area`]), `None` when the overlap is not above [`WEIGHTED_GAP_AREA_RATIO`] of the
@@ -266,16 +277,16 @@ pub(crate) fn slave_area(
 /// segmentation, in 3D (the same cells: the degenerate-cell test of triangles does not depend
 /// on the operator settings). The points are then only moved to the new nodal normals
 /// ([`integration_points_with_normals`]) and the basis is kept (it depends on the slave side
-/// only): bit for bit the values computed afresh.
+/// only): bit for bit the values computed afresh. With the mapper's operators as well (given
+/// where the slave's nodal normals are the mapper's, bit for bit — flat faces), the points do
+/// not move at all (their normals, master projections and master local coordinates are
+/// computed from the same bits), so the operators are the mapper's and are used as they are.
 pub(crate) fn segmented_pair_gap(
     model: &ModelPart,
     sc: ConditionIdx,
     (sdata, slave, slave_area): (&FaceData, &MortarFace<'_>, Real),
     (mdata, master): (&FaceData, &MortarFace<'_>),
-    (seg, first_pass): (
-        &Segmentation,
-        Option<(&[MortarIntegrationPoint], &DualBasis)>,
-    ),
+    (seg, first_pass): (&Segmentation, Option<FirstPass<'_>>),
     dim: usize,
 ) -> Result<Option<PairGap>, Error> {
     let slave_id = model.conditions().ids()[sc.index()];
@@ -284,20 +295,23 @@ pub(crate) fn segmented_pair_gap(
     if seg.cells().is_empty() || seg.overlap_area() / slave_area <= WEIGHTED_GAP_AREA_RATIO {
         return Ok(None);
     }
-    let (gps, basis) = match first_pass {
-        Some((points, basis)) => (
-            integration_points_with_normals(slave, master, points)
-                .map_err(wrap("mortar integration"))?,
-            *basis,
-        ),
+    let ops = match first_pass {
+        Some(FirstPass {
+            operators: Some(operators),
+            ..
+        }) => *operators,
+        Some(FirstPass { points, basis, .. }) => {
+            let gps = integration_points_with_normals(slave, master, points)
+                .map_err(wrap("mortar integration"))?;
+            mortar_operators(slave, master, &gps, Some(basis))
+        }
         None => {
             let gps = integration_points(slave, master, seg, &OperatorSettings::explicit())
                 .map_err(wrap("mortar integration"))?;
             let basis = dual_basis(slave, &gps);
-            (gps, basis)
+            mortar_operators(slave, master, &gps, Some(&basis))
         }
     };
-    let ops = mortar_operators(slave, master, &gps, Some(&basis));
     // Kratos: `D_x1_M_x2 = prod(D, x1) − prod(M, x2)`, then
     // `WEIGHTED_GAP_i += inner_prod(row_i, −n_i)` (sums in index order from 0).
     // `slave` is a mortar face of these points: it has at most four nodes.
