@@ -801,8 +801,10 @@ fn curved_plates_step() -> (ModelPart, SearchResult) {
 fn plates_step(curved: bool) -> (ModelPart, SearchResult) {
     let s = setup(r#"{"type_search": "in_radius_with_obb"}"#, "");
     let mut model = plates(8, -0.005, false);
-    for p in model.nodes_mut().coordinates_mut().iter_mut().filter(|_| curved) {
-        p.z += 0.05 * (1.3 * p.x).sin() * (0.7 * p.y + 0.2).cos();
+    if curved {
+        for p in model.nodes_mut().coordinates_mut() {
+            p.z += 0.05 * (1.3 * p.x).sin() * (0.7 * p.y + 0.2).cos();
+        }
     }
     let mut search = ContactSearch::initialize(&mut model, &s).unwrap();
     let result = search.step(&mut model).unwrap();
