@@ -82,6 +82,16 @@ fn scene(gap: f64) -> (ModelPart, PartIdx) {
     (m, sub)
 }
 
+/// [`scene`] with a gap of 0.01 and three nodes moved off their plane: warped
+/// quadrilaterals, whose nodal normals differ from the centre's.
+fn warped_scene() -> (ModelPart, PartIdx) {
+    let (mut m, sub) = scene(0.01);
+    for (node, dz) in [(2, 0.05), (6, -0.03), (7, 0.02)] {
+        m.nodes_mut().coordinates_mut()[node].z += dz;
+    }
+    (m, sub)
+}
+
 fn settings() -> MappingSettings {
     MappingSettings {
         mode: MortarMode::Kratos,
@@ -425,10 +435,7 @@ fn slip_rule_marks_frictionless_activated_nodes_slip() {
 /// not used.
 #[test]
 fn kept_face_normals_map_as_computed_ones() {
-    let (mut base, sub) = scene(0.01);
-    for (node, dz) in [(2, 0.05), (6, -0.03), (7, 0.02)] {
-        base.nodes_mut().coordinates_mut()[node].z += dz;
-    }
+    let (base, sub) = warped_scene();
     let state = |m: &ModelPart| {
         let data = m.nodal_data();
         (
@@ -514,10 +521,7 @@ thread_local! {
 /// node makes it keep `M`.
 #[test]
 fn master_products_map_as_the_operators() {
-    let (mut base, sub) = scene(0.01);
-    for (node, dz) in [(2, 0.05), (6, -0.03), (7, 0.02)] {
-        base.nodes_mut().coordinates_mut()[node].z += dz;
-    }
+    let (mut base, sub) = warped_scene();
     let bits = |m: &ModelPart| {
         let data = m.nodal_data();
         let scalars = [ScalarVar::NormalGap, ScalarVar::NodalArea].map(|v| {

@@ -36,8 +36,6 @@ pub(crate) struct QuadOutside {
     inv: [[Real; 2]; 2],
     /// `κ = |A⁻¹h|`.
     kappa: Real,
-    /// The rounding margin's magnitude part: `10⁻¹⁰ · magnitude / size`.
-    rounding: Real,
     /// The largest coordinate magnitude of the nodes (and `z`).
     magnitude: Real,
     /// The element's smallest extent (`|det A| / max(|a|, |b|)`).
@@ -93,11 +91,11 @@ impl QuadOutside {
             c,
             inv,
             kappa: (g[0] * g[0] + g[1] * g[1]).sqrt(),
-            rounding: ROUNDING_MARGIN * magnitude / size,
             magnitude,
             size,
         };
-        (out.kappa.is_finite() && out.rounding.is_finite()).then_some(out)
+        let rounding = ROUNDING_MARGIN * magnitude / size;
+        (out.kappa.is_finite() && rounding.is_finite()).then_some(out)
     }
 
     /// Whether Kratos' iteration certainly puts `p` outside the reference square enlarged by
@@ -120,7 +118,7 @@ impl QuadOutside {
         }
         // The point's own magnitude enters the rounding too.
         let magnitude = self.magnitude.max(p.x.abs()).max(p.y.abs());
-        let rounding = self.rounding.max(ROUNDING_MARGIN * magnitude / self.size);
+        let rounding = ROUNDING_MARGIN * magnitude / self.size;
         let bound =
             1.0 + tolerance + MARGIN * (1.0 + r) + rounding + ERROR_FACTOR * self.kappa * r * r;
         // NaN makes both comparisons false.
