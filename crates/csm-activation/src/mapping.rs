@@ -11,6 +11,8 @@ use csm_model::{
     ModelPart, NodeIdx, PartIdx, ScalarVar, VectorVar,
 };
 
+use std::collections::VecDeque;
+
 use rayon::prelude::*;
 
 use crate::error::Error;
@@ -307,6 +309,350 @@ impl OperatorStore {
     }
 }
 
+/// What the segmentation of the INDEX_MAP entries computes and keeps.
+#[derive(Clone, Copy)]
+struct Segmenting<'a> {
+    seg: SegmentationSettings,
+    op: OperatorSettings,
+    store: OperatorStore,
+    /// With it, the weighted gap of every kept pair as well.
+    weighted_gap: Option<WeightedGapInputs<'a>>,
+}
+
+/// Segments the INDEX_MAP entries of `slaves`, in parallel: their mappings in slave order,
+/// [`SLAVES_PER_TASK`] slaves each. The first error in slave order.
+fn segment_slaves(
+    m: &ModelPart,
+    slaves: &[ConditionIdx],
+    tasks: &Segmenting<'_>,
+) -> Result<Vec<SlaveMapping>, Error> {
+    let per_slave: Vec<Result<SlaveMapping, Error>> = slaves
+        .par_chunks(SLAVES_PER_TASK)
+        .map(|chunk| {
+            // Room for every entry (the kept ones are at most these): no copies as the lists
+            // grow; the rest is given back after.
+            let mut out = SlaveMapping::default();
+            let (mut entries, mut values) = (0, 0);
+            for &sc in chunk {
+                let map = m.index_map(sc);
+                let ns = m.conditions().nodes(sc.index()).len();
+                entries += map.len();
+                values += map.len() * MortarOperators::packed_len(ns, MAX_MORTAR_FACE_NODES);
+            }
+            out.kept.reserve_exact(entries);
+            out.operators.reserve_exact(values);
+            if tasks.weighted_gap.is_some() {
+                out.gaps.reserve_exact(entries);
+            }
+            for &sc in chunk {
+                map_slave(
+                    m,
+                    sc,
+                    (&tasks.seg, &tasks.op),
+                    (tasks.store, tasks.weighted_gap),
+                    &mut out,
+                )?;
+            }
+            out.kept.shrink_to_fit();
+            out.operators.shrink_to_fit();
+            out.gaps.shrink_to_fit();
+            Ok(out)
+        })
+        .collect();
+    per_slave.into_iter().collect()
+}
+
+/// The mappings with kept pairs, without their removed entries and weighted gaps (reported
+/// and taken before): most slave conditions have none on a large interface with a small
+/// contact zone.
+fn kept_only(per_slave: Vec<SlaveMapping>) -> Vec<SlaveMapping> {
+    per_slave
+        .into_iter()
+        .filter(|m| !m.kept.is_empty())
+        .map(|m| SlaveMapping {
+            kept: m.kept,
+            operators: m.operators,
+            ..SlaveMapping::default()
+        })
+        .collect()
+}
+
+/// Every kept pair of `per_slave` with its packed operators, in order.
+fn kept_pairs<'a>(
+    m: &'a ModelPart,
+    per_slave: &'a [SlaveMapping],
+    store: OperatorStore,
+) -> impl Iterator<Item = (ConditionIdx, ConditionIdx, &'a [Real])> + 'a {
+    per_slave.iter().flat_map(move |mapped| {
+        let mut rest = mapped.operators.as_slice();
+        mapped.kept.iter().map(move |&(sc, mc)| {
+            let ns = m.conditions().nodes(sc.index()).len();
+            let nm = m.conditions().nodes(mc.index()).len();
+            let (packed, next) = rest.split_at(store.packed_len(ns, nm));
+            rest = next;
+            (sc, mc, packed)
+        })
+    })
+}
+
+/// One mapper iteration's residual of the kept pairs on the values `aux`, by slave node
+/// (`slaves`).
+struct Residual<'a> {
+    store: OperatorStore,
+    dim: usize,
+    aux: &'a [Vector],
+    slaves: &'a SlavePositions,
+}
+
+impl Residual<'_> {
+    /// Adds the residual of the pair `(sc, mc)` with the `packed` operators to its slave
+    /// nodes in `vaux` (Kratos' `prod(M, V) − prod(D, S)`, component by component; by slave
+    /// node: what the nodes of a slave condition that are not slave nodes get is never read).
+    fn add(
+        &self,
+        m: &ModelPart,
+        (sc, mc, packed): (ConditionIdx, ConditionIdx, &[Real]),
+        vaux: &mut [Vector],
+    ) {
+        self.add_with(m, (sc, mc, packed), vaux, |n, k| self.aux[n.index()][k]);
+    }
+
+    /// [`add`](Self::add) with the slave values `slave_value(node, component)`.
+    // The component `k` also picks the slave values and the products: no iterator of `vaux`.
+    #[allow(clippy::needless_range_loop)]
+    fn add_with(
+        &self,
+        m: &ModelPart,
+        (sc, mc, packed): (ConditionIdx, ConditionIdx, &[Real]),
+        vaux: &mut [Vector],
+        slave_value: impl Fn(NodeIdx, usize) -> Real,
+    ) {
+        let slave_nodes = m.conditions().nodes(sc.index());
+        let master_nodes = m.conditions().nodes(mc.index());
+        let (nm, ns) = (master_nodes.len(), slave_nodes.len());
+        for k in 0..self.dim {
+            let mut sv = [0.0; MAX_FACE_NODES];
+            let mut r = [0.0; MAX_FACE_NODES];
+            for (v, &n) in sv.iter_mut().zip(slave_nodes) {
+                *v = slave_value(n, k);
+            }
+            match self.store {
+                OperatorStore::Operators => {
+                    let mut mv = [0.0; MAX_FACE_NODES];
+                    for (v, n) in mv.iter_mut().zip(master_nodes) {
+                        *v = self.aux[n.index()][k];
+                    }
+                    MortarOperators::packed_residual_into(
+                        packed,
+                        &mv[..nm],
+                        &sv[..ns],
+                        &mut r[..ns],
+                    );
+                }
+                OperatorStore::MasterProducts { .. } => {
+                    MortarOperators::packed_products_residual_into(
+                        packed,
+                        (k, self.dim),
+                        &sv[..ns],
+                        &mut r[..ns],
+                    );
+                }
+            }
+            for (i, &n) in slave_nodes.iter().enumerate() {
+                if let Some(j) = self.slaves.get(n) {
+                    vaux[j][k] += r[i];
+                }
+            }
+        }
+    }
+}
+
+/// The positions of the slave nodes in [`Sides::slave_nodes`] by node index: the mapper's
+/// arrays by slave node.
+struct SlavePositions(Vec<u32>);
+
+impl SlavePositions {
+    /// Not a slave node.
+    const NONE: u32 = u32::MAX;
+
+    fn new(s: &Sides, n_nodes: usize) -> SlavePositions {
+        let mut positions = vec![SlavePositions::NONE; n_nodes];
+        for (j, n) in s.slave_nodes.iter().enumerate() {
+            positions[n.index()] = u32::try_from(j).expect("node positions fit u32");
+        }
+        SlavePositions(positions)
+    }
+
+    /// The position of node `n` among the slave nodes, if it is one.
+    fn get(&self, n: NodeIdx) -> Option<usize> {
+        let j = self.0[n.index()];
+        (j != SlavePositions::NONE).then_some(j as usize)
+    }
+}
+
+/// Adds `D`'s diagonal of the pair of slave `sc` (`packed`: its first ns² values are `D`, row
+/// by row) to the slave nodes' `area` (by slave node, as [`Residual::add`]).
+fn add_area(
+    m: &ModelPart,
+    sc: ConditionIdx,
+    packed: &[Real],
+    (area, slaves): (&mut [Real], &SlavePositions),
+) {
+    let slave_nodes = m.conditions().nodes(sc.index());
+    let ns = slave_nodes.len();
+    for (i, &n) in slave_nodes.iter().enumerate() {
+        if let Some(j) = slaves.get(n) {
+            area[j] += packed[i * ns + i];
+        }
+    }
+}
+
+/// Slave conditions per batch of [`stream_first_iterations`].
+const SLAVES_PER_BATCH: usize = 8192;
+
+/// What [`stream_first_iterations`] leaves for the iterations.
+struct FirstIterations {
+    /// The residuals of the first two iterations (`VAUX`), by slave node.
+    vaux: [Vec<Vector>; 2],
+    /// `NODAL_AREA`: `D`'s diagonal summed over the kept pairs, by slave node.
+    area: Vec<Real>,
+    /// The weighted gap of the kept pairs, in slave order.
+    gaps: Vec<KnownGap>,
+}
+
+/// Whether the first two mapper iterations can follow the segmentation
+/// ([`stream_first_iterations`]): the store keeps the products of the master values (which
+/// do not change), and every node of a slave condition is a slave node (only those change,
+/// and every residual goes to them).
+fn streams(m: &ModelPart, s: &Sides, slaves: &SlavePositions, store: OperatorStore) -> bool {
+    #[cfg(test)]
+    if crate::tests::FORCE_STORED.with(std::cell::Cell::get) {
+        return false;
+    }
+    if !matches!(store, OperatorStore::MasterProducts { .. }) {
+        return false;
+    }
+    s.slave_conditions.iter().all(|c| {
+        m.conditions()
+            .nodes(c.index())
+            .iter()
+            .all(|&n| slaves.get(n).is_some())
+    })
+}
+
+/// The segmentation of every INDEX_MAP entry ([`segment_slaves`], batch after batch of
+/// [`SLAVES_PER_BATCH`] slaves) with the first two mapper iterations' residuals, computed as
+/// the pairs come, so that no pair's operators are kept longer than those iterations need
+/// them (where [`streams`]): the first iteration's residual and `D`'s diagonal of a pair are
+/// added as its batch is done; its second iteration's residual once every slave condition of
+/// its slave nodes is done (their values after the first iteration are then known), in pair
+/// order, after which its operators are dropped. Each node's sums are those of the iterations
+/// in pair order, bit for bit: the values after the first iteration are computed as the
+/// iteration computes them, and what the iterations do with the sums of the first two
+/// (`aux` update, convergence) is left to them. `(aux, ref_area)`: the values before the
+/// iterations and the reference area. Counts the kept entries in `report` and adds the
+/// removed ones in slave order.
+fn stream_first_iterations(
+    m: &ModelPart,
+    s: &Sides,
+    tasks: &Segmenting<'_>,
+    (aux, ref_area, slaves): (&[Vector], Real, &SlavePositions),
+    report: &mut MappingReport,
+) -> Result<FirstIterations, Error> {
+    let n_slaves = s.slave_nodes.len();
+    let dim = match tasks.store {
+        OperatorStore::MasterProducts { dim, .. } => dim,
+        OperatorStore::Operators => unreachable!("streams only the master values' products"),
+    };
+    let batch = batch_size();
+    // By slave node: the number of slave conditions done when its last one is (every node
+    // of a slave condition is a slave node).
+    let position = |n: NodeIdx| slaves.get(n).expect("streams: a slave node");
+    let mut done_with = vec![0; n_slaves];
+    for (p, sc) in s.slave_conditions.iter().enumerate() {
+        for &n in m.conditions().nodes(sc.index()) {
+            done_with[position(n)] = p + 1;
+        }
+    }
+    let mut first = FirstIterations {
+        vaux: [
+            vec![Vector::zeros(); n_slaves],
+            vec![Vector::zeros(); n_slaves],
+        ],
+        area: vec![0.0; n_slaves],
+        gaps: Vec::new(),
+    };
+    let residual = Residual {
+        store: tasks.store,
+        dim,
+        aux,
+        slaves,
+    };
+    let tolerance = AREA_TOLERANCE * ref_area;
+    // The mappings whose pairs' second iteration is not done yet, the first from pair `next`.
+    let mut pending: VecDeque<SlaveMapping> = VecDeque::new();
+    let mut next = 0;
+    for (b, conditions) in s.slave_conditions.chunks(batch).enumerate() {
+        let done = b * batch + conditions.len();
+        for mut mapped in segment_slaves(m, conditions, tasks)? {
+            report.kept += mapped.kept.len();
+            report.removed.append(&mut mapped.removed);
+            first.gaps.append(&mut mapped.gaps);
+            if mapped.kept.is_empty() {
+                continue;
+            }
+            for (sc, mc, packed) in kept_pairs(m, std::slice::from_ref(&mapped), tasks.store) {
+                residual.add(m, (sc, mc, packed), &mut first.vaux[0]);
+                add_area(m, sc, packed, (&mut first.area, slaves));
+            }
+            pending.push_back(SlaveMapping {
+                kept: mapped.kept,
+                operators: mapped.operators,
+                ..SlaveMapping::default()
+            });
+        }
+        // The second iteration of the pairs whose slave nodes are done, in order.
+        let [vaux0, vaux1] = &mut first.vaux;
+        let (vaux0, area) = (&*vaux0, &first.area);
+        // A slave node's value after the first iteration, as the iterations compute it.
+        let after_first = |n: NodeIdx, k: usize| {
+            let (i, j) = (n.index(), position(n));
+            if area[j].abs() > tolerance {
+                aux[i][k] + vaux0[j][k] / area[j]
+            } else {
+                aux[i][k]
+            }
+        };
+        'pending: while let Some(mapped) = pending.front() {
+            let pairs = kept_pairs(m, std::slice::from_ref(mapped), tasks.store).skip(next);
+            for (sc, mc, packed) in pairs {
+                let nodes = m.conditions().nodes(sc.index());
+                if nodes.iter().any(|&n| done_with[position(n)] > done) {
+                    break 'pending;
+                }
+                residual.add_with(m, (sc, mc, packed), vaux1, after_first);
+                next += 1;
+            }
+            pending.pop_front();
+            next = 0;
+        }
+    }
+    debug_assert!(
+        pending.is_empty(),
+        "every node is done after the last batch"
+    );
+    Ok(first)
+}
+
+/// [`SLAVES_PER_BATCH`], or the tests' own.
+fn batch_size() -> usize {
+    #[cfg(test)]
+    if let Some(n) = crate::tests::STREAM_BATCH.with(std::cell::Cell::get) {
+        return n;
+    }
+    SLAVES_PER_BATCH
+}
+
 /// Segments every INDEX_MAP entry of slave condition `sc`: entries without overlap are
 /// removed; the others get the dual basis and the mapper's `D`, `M` operators (appended to
 /// `out`).
@@ -535,7 +881,9 @@ fn normal_gap_process_inner(
     for n in &s.slave_nodes {
         aux[n.index()] = Vector::zeros();
     }
-    let mut area = vec![0.0; n_nodes];
+    let slaves = SlavePositions::new(&s, n_nodes);
+    // By slave node.
+    let mut area = vec![0.0; s.slave_nodes.len()];
     let mut ref_area: Real = 0.0;
     let all: Vec<ConditionIdx> = s
         .master_conditions
@@ -568,92 +916,40 @@ fn normal_gap_process_inner(
     for a in areas {
         ref_area = ref_area.max(a?);
     }
-    // 3. Segmentation of every INDEX_MAP entry.
-    let seg_settings = SegmentationSettings {
-        mode: settings.mode,
-        distance_threshold: settings.distance_threshold,
+    // 3. Segmentation of every INDEX_MAP entry, with the first two mapper iterations where
+    // they can follow it (`streamed`).
+    let tasks = Segmenting {
+        seg: SegmentationSettings {
+            mode: settings.mode,
+            distance_threshold: settings.distance_threshold,
+        },
+        op: OperatorSettings::mapper(),
+        store: OperatorStore::for_sides(&s, n_nodes, o, dim),
+        weighted_gap,
     };
-    let op_settings = OperatorSettings::mapper();
-    let store = OperatorStore::for_sides(&s, n_nodes, o, dim);
     let mut report = MappingReport::default();
-    // Every slave condition's entries in parallel; kept and removed entries are collected in
-    // slave-condition order, as Kratos' loop visits them. The kept pairs stay in the per-slave
-    // lists (no second copy of the operators).
     let m = &*model;
-    let per_slave: Vec<Result<SlaveMapping, Error>> = s
-        .slave_conditions
-        .par_chunks(SLAVES_PER_TASK)
-        .map(|chunk| {
-            // Room for every entry (the kept ones are at most these): no copies as the lists
-            // grow; the rest is given back after.
-            let mut out = SlaveMapping::default();
-            let (mut entries, mut values) = (0, 0);
-            for &sc in chunk {
-                let map = m.index_map(sc);
-                let ns = m.conditions().nodes(sc.index()).len();
-                entries += map.len();
-                values += map.len() * MortarOperators::packed_len(ns, MAX_MORTAR_FACE_NODES);
-            }
-            out.kept.reserve_exact(entries);
-            out.operators.reserve_exact(values);
-            if weighted_gap.is_some() {
-                out.gaps.reserve_exact(entries);
-            }
-            for &sc in chunk {
-                map_slave(
-                    m,
-                    sc,
-                    (&seg_settings, &op_settings),
-                    (store, weighted_gap),
-                    &mut out,
-                )?;
-            }
-            out.kept.shrink_to_fit();
-            out.operators.shrink_to_fit();
-            out.gaps.shrink_to_fit();
-            Ok(out)
-        })
-        .collect();
-    // The first error in slave order.
-    let mut per_slave = per_slave.into_iter().collect::<Result<Vec<_>, Error>>()?;
-    let n_gaps = per_slave.iter().map(|m| m.gaps.len()).sum();
-    let mut gaps = Vec::with_capacity(n_gaps);
-    for mapped in &mut per_slave {
-        report.removed.extend_from_slice(&mapped.removed);
-        gaps.append(&mut mapped.gaps);
-    }
+    let (mut first, mut per_slave, gaps) = if streams(m, &s, &slaves, tasks.store) {
+        let mut first =
+            stream_first_iterations(m, &s, &tasks, (&aux, ref_area, &slaves), &mut report)?;
+        let gaps = std::mem::take(&mut first.gaps);
+        (Some(first), None, gaps)
+    } else {
+        let mut per_slave = segment_slaves(m, &s.slave_conditions, &tasks)?;
+        let mut gaps = Vec::with_capacity(per_slave.iter().map(|m| m.gaps.len()).sum());
+        for mapped in &mut per_slave {
+            report.kept += mapped.kept.len();
+            report.removed.append(&mut mapped.removed);
+            gaps.append(&mut mapped.gaps);
+        }
+        (None, Some(kept_only(per_slave)), gaps)
+    };
     let known = KnownGaps::new(gaps);
-    // Only the slaves with kept pairs stay (most slave conditions have none on a large
-    // interface with a small contact zone).
-    let per_slave: Vec<SlaveMapping> = per_slave
-        .into_iter()
-        .filter(|m| !m.kept.is_empty())
-        .map(|m| SlaveMapping {
-            kept: m.kept,
-            operators: m.operators,
-            // (The removed entries are reported and the contributions taken.)
-            ..SlaveMapping::default()
-        })
-        .collect();
     for r in &report.removed {
         model.index_map_mut(r.slave).remove_id(r.master);
     }
-    // Every kept pair with its packed operators, in order.
-    let m = &*model;
-    let pairs = || {
-        per_slave.iter().flat_map(|mapped| {
-            let mut rest = mapped.operators.as_slice();
-            mapped.kept.iter().map(move |&(sc, mc)| {
-                let ns = m.conditions().nodes(sc.index()).len();
-                let nm = m.conditions().nodes(mc.index()).len();
-                let (packed, next) = rest.split_at(store.packed_len(ns, nm));
-                rest = next;
-                (sc, mc, packed)
-            })
-        })
-    };
-    report.kept = per_slave.iter().map(|m| m.kept.len()).sum();
     // 4. The explicit mapping iterations.
+    let m = &*model;
     let n_d = s.slave_nodes.len().max(1) as Real;
     let mut r0: [Real; 3] = [0.0; 3];
     let mut r_prev: [Real; 3] = [0.0; 3];
@@ -661,64 +957,53 @@ fn normal_gap_process_inner(
     // Kratos' per-component flags are sticky: a component converged once stays converged.
     let mut component_converged = [report.kept == 0; 3];
     let mut converged = report.kept == 0;
-    let mut vaux = vec![Vector::zeros(); n_nodes];
+    // By slave node (Kratos' VAUX of the other nodes is never read).
+    let mut vaux = Vec::new();
     while !converged && iteration < MAPPER_MAX_ITERATIONS {
-        for n in s.master_nodes.iter().chain(&s.slave_nodes) {
-            vaux[n.index()] = Vector::zeros();
-        }
-        for (sc, mc, packed) in pairs() {
-            let slave_nodes = model.conditions().nodes(sc.index());
-            let master_nodes = model.conditions().nodes(mc.index());
-            let (nm, ns) = (master_nodes.len(), slave_nodes.len());
-            for k in 0..dim {
-                let mut sv = [0.0; MAX_FACE_NODES];
-                let mut r = [0.0; MAX_FACE_NODES];
-                for (v, n) in sv.iter_mut().zip(slave_nodes) {
-                    *v = aux[n.index()][k];
-                }
-                match store {
-                    OperatorStore::Operators => {
-                        let mut mv = [0.0; MAX_FACE_NODES];
-                        for (v, n) in mv.iter_mut().zip(master_nodes) {
-                            *v = aux[n.index()][k];
-                        }
-                        MortarOperators::packed_residual_into(
-                            packed,
-                            &mv[..nm],
-                            &sv[..ns],
-                            &mut r[..ns],
-                        );
-                    }
-                    OperatorStore::MasterProducts { .. } => {
-                        MortarOperators::packed_products_residual_into(
-                            packed,
-                            (k, dim),
-                            &sv[..ns],
-                            &mut r[..ns],
-                        );
-                    }
-                }
-                for (i, n) in slave_nodes.iter().enumerate() {
-                    vaux[n.index()][k] += r[i];
+        vaux.clear();
+        vaux.resize(s.slave_nodes.len(), Vector::zeros());
+        match first.as_mut().filter(|_| iteration < 2) {
+            Some(first) => {
+                std::mem::swap(&mut vaux, &mut first.vaux[iteration]);
+                if iteration == 0 {
+                    std::mem::swap(&mut area, &mut first.area);
                 }
             }
-            if iteration == 0 {
-                // D's diagonal: the first ns² packed values are D, row by row.
-                for (i, n) in slave_nodes.iter().enumerate() {
-                    area[n.index()] += packed[i * ns + i];
+            None => {
+                // After the streamed iterations: the operators again (the index maps now hold
+                // the kept entries only; the weighted gap is known).
+                if per_slave.is_none() {
+                    let tasks = Segmenting {
+                        weighted_gap: None,
+                        ..tasks
+                    };
+                    per_slave = Some(kept_only(segment_slaves(m, &s.slave_conditions, &tasks)?));
+                }
+                let per_slave = per_slave.as_deref().unwrap_or_default();
+                let residual = Residual {
+                    store: tasks.store,
+                    dim,
+                    aux: &aux,
+                    slaves: &slaves,
+                };
+                for (sc, mc, packed) in kept_pairs(m, per_slave, tasks.store) {
+                    residual.add(m, (sc, mc, packed), &mut vaux);
+                    if iteration == 0 {
+                        add_area(m, sc, packed, (&mut area, &slaves));
+                    }
                 }
             }
         }
         let mut sums = [0.0; 3];
-        for n in &s.slave_nodes {
+        for (j, n) in s.slave_nodes.iter().enumerate() {
             let i = n.index();
-            if area[i].abs() > AREA_TOLERANCE * ref_area {
+            if area[j].abs() > AREA_TOLERANCE * ref_area {
                 for k in 0..dim {
-                    aux[i][k] += vaux[i][k] / area[i];
+                    aux[i][k] += vaux[j][k] / area[j];
                 }
             }
             for (k, sum) in sums.iter_mut().enumerate().take(dim) {
-                *sum += vaux[i][k] * vaux[i][k];
+                *sum += vaux[j][k] * vaux[j][k];
             }
         }
         for k in 0..dim {
@@ -766,8 +1051,8 @@ fn normal_gap_process_inner(
         }
     }
     if let Some(col) = data.scalar_mut(ScalarVar::NodalArea, 0) {
-        for n in &s.slave_nodes {
-            col[n.index()] = area[n.index()];
+        for (j, n) in s.slave_nodes.iter().enumerate() {
+            col[n.index()] = area[j];
         }
     }
     if let Some(col) = data.vector_mut(VectorVar::AuxiliarCoordinates, 0) {

@@ -513,6 +513,10 @@ fn known_gaps_cursor_answers_as_a_binary_search() {
 thread_local! {
     /// Makes the mapping keep `D` and `M` where it would keep the master values' products.
     pub(crate) static FORCE_OPERATORS: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    /// Makes the mapping keep every pair's operators where it would stream them.
+    pub(crate) static FORCE_STORED: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    /// The streamed mapping's batch size, in place of its own.
+    pub(crate) static STREAM_BATCH: std::cell::Cell<Option<usize>> = const { std::cell::Cell::new(None) };
 }
 
 /// The mapping that keeps the master values' products in place of `M` maps as the one that
@@ -577,4 +581,204 @@ fn master_products_map_as_the_operators() {
         crate::mapping::OperatorStore::for_sides(&s, base.nodes().len(), true, 3),
         crate::mapping::OperatorStore::Operators
     ));
+}
+
+/// A slave grid of `n`×`n` warped unit-spaced quadrilaterals (normal about +z) and a master
+/// grid of `n + 1`×`n + 1` quadrilaterals of spacing `pitch` at `z = gap` (normal about −z),
+/// shifted by `shift` in x and y; the condition ids of each side are scrambled, so that the
+/// slave conditions in id order visit the grid out of place. Every slave condition's
+/// INDEX_MAP holds the masters whose boxes come within 0.5 of its own, some of which do not
+/// overlap it, and every master's the slaves whose own hold it.
+fn grid_scene(n: usize, (pitch, shift, gap): (f64, f64, f64)) -> (ModelPart, PartIdx) {
+    let mut m = ModelPart::new("Structure");
+    let warp = |x: f64, y: f64| 0.02 * (1.3 * x).sin() * (0.7 * y).cos();
+    let mut next_node = 1;
+    let mut grid = |m: &mut ModelPart, cells: usize, pitch: f64, offset: f64, z: f64| {
+        let first = next_node;
+        for j in 0..=cells {
+            for i in 0..=cells {
+                let (x, y) = (offset + pitch * i as f64, offset + pitch * j as f64);
+                m.add_node(NodeId(next_node), Point::new(x, y, z + warp(x, y)))
+                    .unwrap();
+                next_node += 1;
+            }
+        }
+        move |i: usize, j: usize| NodeId(first + (j * (cells + 1) + i) as u32)
+    };
+    let slave_node = grid(&mut m, n, 1.0, 0.0, 0.0);
+    let master_node = grid(&mut m, n + 1, pitch, shift, gap);
+    let n_nodes = m.nodes().len();
+    // A permutation of 1..=count by a multiplier prime to it.
+    let scrambled = |k: usize, count: usize| ConditionId((k * 7919 % count + 1) as u32);
+    let mut slaves = Vec::new();
+    for k in 0..n * n {
+        let (i, j) = (k % n, k / n);
+        let nodes = [
+            slave_node(i, j),
+            slave_node(i + 1, j),
+            slave_node(i + 1, j + 1),
+            slave_node(i, j + 1),
+        ];
+        let id = scrambled(k, n * n);
+        let c = m
+            .add_condition(
+                id,
+                GeometryKind::Quadrilateral3D4,
+                "c",
+                &nodes,
+                PropertiesId(0),
+            )
+            .unwrap();
+        slaves.push((c, [i as f64, j as f64]));
+    }
+    let cells = n + 1;
+    let mut masters = Vec::new();
+    for k in 0..cells * cells {
+        let (i, j) = (k % cells, k / cells);
+        let nodes = [
+            master_node(i, j),
+            master_node(i, j + 1),
+            master_node(i + 1, j + 1),
+            master_node(i + 1, j),
+        ];
+        let id = ConditionId((n * n + 1) as u32 + scrambled(k, cells * cells).get());
+        let c = m
+            .add_condition(
+                id,
+                GeometryKind::Quadrilateral3D4,
+                "c",
+                &nodes,
+                PropertiesId(0),
+            )
+            .unwrap();
+        let corner = [shift + pitch * i as f64, shift + pitch * j as f64];
+        masters.push((c, id, corner));
+    }
+    let sub = m.create_part("Contact.ContactSub0").unwrap();
+    let all_nodes: Vec<_> = (0..n_nodes as u32).map(csm_model::NodeIdx).collect();
+    m.add_nodes_to_part(sub, &all_nodes);
+    let all_conditions: Vec<_> = slaves
+        .iter()
+        .map(|s| s.0)
+        .chain(masters.iter().map(|m| m.0))
+        .collect();
+    m.add_conditions_to_part(sub, &all_conditions);
+    let n_slave_nodes = (n + 1) * (n + 1);
+    for (i, f) in m.nodes_mut().flags_mut().iter_mut().enumerate() {
+        f.set(Flag::SLAVE, i < n_slave_nodes);
+        f.set(Flag::MASTER, i >= n_slave_nodes);
+    }
+    for &(c, _) in &slaves {
+        m.conditions_mut().flags_mut()[c.index()].set(Flag::SLAVE, true);
+    }
+    for &(c, _, _) in &masters {
+        m.conditions_mut().flags_mut()[c.index()].set(Flag::MASTER, true);
+    }
+    m.nodal_data_mut().add_scalar(ScalarVar::NodalH);
+    m.nodal_data_mut()
+        .scalar_mut(ScalarVar::NodalH, 0)
+        .unwrap()
+        .fill(1.0);
+    compute_unit_normals(&mut m, Some(sub), csm_model::NormalsMode::Once).unwrap();
+    // Both ways: the inverted mapping's slave side is the master side.
+    let slave_ids = m.conditions().ids().to_vec();
+    for &(c, [x, y]) in &slaves {
+        for &(mc, id, [mx, my]) in &masters {
+            let near = |a: f64, b: f64, size: f64| b < a + 1.0 + 0.5 && a < b + size + 0.5;
+            if near(x, mx, pitch) && near(y, my, pitch) {
+                m.index_map_mut(c).add_id(id);
+                m.index_map_mut(mc)
+                    .add_id(ConditionId(slave_ids[c.index()]));
+            }
+        }
+    }
+    (m, sub)
+}
+
+/// The state the mapping leaves, bit for bit: NORMAL_GAP, NODAL_AREA, AUXILIAR_COORDINATES,
+/// NORMAL, and the INDEX_MAPs.
+fn mapped_bits(m: &ModelPart) -> Vec<u64> {
+    let data = m.nodal_data();
+    let mut bits = Vec::new();
+    for v in [ScalarVar::NormalGap, ScalarVar::NodalArea] {
+        bits.extend(data.scalar(v, 0).unwrap().iter().map(|x| x.to_bits()));
+    }
+    for v in [VectorVar::AuxiliarCoordinates, VectorVar::Normal] {
+        for x in data.vector(v, 0).unwrap() {
+            bits.extend(x.iter().map(|c| c.to_bits()));
+        }
+    }
+    for c in 0..m.conditions().len() {
+        let map = m.index_map(ConditionIdx(c as u32));
+        bits.extend(map.masters().map(|id| u64::from(id.get())));
+        bits.push(u64::MAX);
+    }
+    bits
+}
+
+/// The mapping that follows the segmentation with its first two iterations (keeping no
+/// pair's operators longer than they need) maps as the one that keeps them all, bit for bit
+/// (report, nodal values, INDEX_MAPs, weighted gaps), for batches of one slave condition up
+/// to all of them, on grids that converge in one, two and more iterations (the last goes on
+/// with the operators computed again), inverted and not.
+#[test]
+fn streamed_mapping_maps_as_the_stored_one() {
+    let mut iterations = Vec::new();
+    // (pitch, shift, gap): two non-matching grids over each other; master grids that touch
+    // the slave grid's corner cell only (a node with too small an area: three iterations),
+    // or by a sliver (converged after the first); a far one (no kept pair).
+    let layouts = [
+        (0.83, -0.2, 0.01),
+        (1.1, -0.37, 0.002),
+        (0.5, 6.9, 0.01),
+        (1.0, 6.9999, 0.01),
+        (0.9, 40.0, 0.01),
+    ];
+    for (l, &layout) in layouts.iter().enumerate() {
+        let (base, sub) = grid_scene(7, layout);
+        let unit_normals = base
+            .nodal_data()
+            .vector(VectorVar::Normal, 0)
+            .unwrap()
+            .to_vec();
+        for inverted in [false, true] {
+            let settings = MappingSettings {
+                inverted,
+                ..settings()
+            };
+            let run = |stored: bool, batch: Option<usize>| {
+                let mut m = base.clone();
+                FORCE_STORED.with(|f| f.set(stored));
+                STREAM_BATCH.with(|b| b.set(batch));
+                let r = normal_gap_process_keeping(&mut m, sub, &settings, None, &unit_normals);
+                FORCE_STORED.with(|f| f.set(false));
+                STREAM_BATCH.with(|b| b.set(None));
+                let (report, known) = r.unwrap();
+                let gaps = format!("{:?}", known.entries());
+                (report, mapped_bits(&m), gaps)
+            };
+            let stored = run(true, None);
+            for batch in [1, 3, 10, 1000] {
+                let streamed = run(false, Some(batch));
+                assert!(
+                    streamed == stored,
+                    "layout {l}, inverted {inverted}, batch {batch}"
+                );
+            }
+            iterations.push(stored.0.iterations);
+            if l < 2 {
+                assert!(
+                    stored.0.kept > 50 && !stored.0.removed.is_empty(),
+                    "layout {l}"
+                );
+            }
+        }
+    }
+    // Every case the iterations distinguish is covered: none, one, two, more.
+    for covered in [0, 1, 2, 3] {
+        assert!(
+            iterations.iter().any(|&i| i.min(3) == covered),
+            "{iterations:?}"
+        );
+    }
 }

@@ -155,6 +155,12 @@ impl KnownGaps {
         Some(&self.entries[k].1)
     }
 
+    /// Every entry, by key.
+    #[cfg(test)]
+    pub(crate) fn entries(&self) -> &[KnownGap] {
+        &self.entries
+    }
+
     /// A cursor for many lookups ([`KnownGapsCursor::get`]).
     pub(crate) fn cursor(&self) -> KnownGapsCursor<'_> {
         KnownGapsCursor {
