@@ -848,6 +848,18 @@ fn normal_gap_process_inner(
             }
         }
     }
+    // 2. Mean normals: origin (master side) first, destination (slave side) second.
+    // Both sides' faces from the kept table at once (one check, one position table).
+    let known = face_normals
+        .and_then(|kept| kept.subsets(model, [&s.master_conditions, &s.slave_conditions]));
+    let (master_faces, slave_faces) = match known {
+        Some([master, slave]) => (Some(master), Some(slave)),
+        None => (None, None),
+    };
+    mean_normals(model, &s.master_conditions, master_faces)?;
+    mean_normals(model, &s.slave_conditions, slave_faces)?;
+    // AUXILIAR_COORDINATES (after the mean normals, which do not read it: their scratch
+    // memory is free again).
     let coords = model.nodes().coordinates();
     let mut aux = model
         .nodal_data()
@@ -867,16 +879,6 @@ fn normal_gap_process_inner(
             coords[n.index()].coords
         };
     }
-    // 2. Mean normals: origin (master side) first, destination (slave side) second.
-    // Both sides' faces from the kept table at once (one check, one position table).
-    let known = face_normals
-        .and_then(|kept| kept.subsets(model, [&s.master_conditions, &s.slave_conditions]));
-    let (master_faces, slave_faces) = match known {
-        Some([master, slave]) => (Some(master), Some(slave)),
-        None => (None, None),
-    };
-    mean_normals(model, &s.master_conditions, master_faces)?;
-    mean_normals(model, &s.slave_conditions, slave_faces)?;
     // Destination reset.
     for n in &s.slave_nodes {
         aux[n.index()] = Vector::zeros();
