@@ -3,7 +3,11 @@
 //! the step's data, so the slave loop can run them in parallel.
 
 use csm_geometry::math::{EPS, Point, Real, Vector};
-use csm_geometry::{Geometry, Kdop18, Obb, Obb2, ObbIntersection, SatMode, fast_project_direction};
+use std::sync::OnceLock;
+
+use csm_geometry::{
+    Geometry, Kdop18, MAX_FACE_NODES, Obb, Obb2, ObbIntersection, SatMode, fast_project_direction,
+};
 use csm_model::{ConditionIdx, ModelPart, NodeIdx};
 use csm_trees::KdTree;
 
@@ -53,50 +57,84 @@ impl Bv {
     }
 }
 
-/// Data of one step per master-side condition (the kd-tree's points), stored compactly: a
-/// slot per condition index, the values only for the masters.
-#[derive(Debug)]
-pub(crate) struct PerMaster<T> {
+/// The function of a master condition and its node coordinates that [`PerMaster`] holds.
+type MasterValue<'a, T> = Box<dyn Fn(ConditionIdx, &[Point]) -> T + Sync + 'a>;
+
+/// Data of one step per master-side condition (the kd-tree's points), computed when a query
+/// first asks for it (a master that no slave query reaches costs nothing but its slot) and
+/// kept for the step: a slot per condition index, the values only for the masters. The value
+/// is a function of the master alone, so which query computes it first does not matter.
+pub(crate) struct PerMaster<'a, T> {
     /// By condition index: the position in `values`, or `u32::MAX`.
     slot: Vec<u32>,
-    values: Vec<T>,
+    /// The masters, by position.
+    masters: Vec<ConditionIdx>,
+    values: Vec<OnceLock<T>>,
+    model: Option<&'a ModelPart>,
+    value: Option<MasterValue<'a, T>>,
 }
 
-impl<T: Send> PerMaster<T> {
+impl<'a, T: Send + Sync> PerMaster<'a, T> {
     /// No master has a value.
-    pub(crate) fn none() -> PerMaster<T> {
+    pub(crate) fn none() -> PerMaster<'a, T> {
         PerMaster {
             slot: Vec::new(),
+            masters: Vec::new(),
             values: Vec::new(),
+            model: None,
+            value: None,
         }
     }
 
     /// `value(c, points)` for every master `c` of `model` in `masters` (`points`: its node
-    /// coordinates), computed in parallel.
-    pub(crate) fn build(
-        model: &ModelPart,
+    /// coordinates), each computed when first asked for.
+    pub(crate) fn new(
+        model: &'a ModelPart,
         masters: &[ConditionIdx],
-        value: impl Fn(ConditionIdx, &[Point]) -> T + Sync,
-    ) -> PerMaster<T> {
-        use rayon::prelude::*;
+        value: impl Fn(ConditionIdx, &[Point]) -> T + Sync + 'a,
+    ) -> PerMaster<'a, T> {
         let mut slot = vec![u32::MAX; model.conditions().len()];
         for (i, c) in masters.iter().enumerate() {
             slot[c.index()] = i as u32;
         }
-        let values = masters
-            .par_iter()
-            .map_init(Vec::new, |points, &c| {
-                model.gather_points(model.conditions().nodes(c.index()), points);
-                value(c, points)
-            })
-            .collect();
-        PerMaster { slot, values }
+        PerMaster {
+            slot,
+            masters: masters.to_vec(),
+            values: masters.iter().map(|_| OnceLock::new()).collect(),
+            model: Some(model),
+            value: Some(Box::new(value)),
+        }
+    }
+
+    /// Computes every master's value now, in parallel (in master order: where most masters
+    /// will be asked for, this reads them in memory order).
+    pub(crate) fn compute_all(&self) {
+        use rayon::prelude::*;
+        self.masters.par_iter().for_each(|&c| {
+            self.get(c);
+        });
     }
 
     /// The value of master `c`, if it has one.
     pub(crate) fn get(&self, c: ConditionIdx) -> Option<&T> {
         let i = *self.slot.get(c.index())?;
-        self.values.get(i as usize)
+        let (Some(model), Some(value)) = (self.model, &self.value) else {
+            return None;
+        };
+        let cell = self.values.get(i as usize)?;
+        Some(cell.get_or_init(|| {
+            let coords = model.nodes().coordinates();
+            let nodes = model.conditions().nodes(c.index());
+            if nodes.len() > MAX_FACE_NODES {
+                let points: Vec<Point> = nodes.iter().map(|n| coords[n.index()]).collect();
+                return value(c, &points);
+            }
+            let mut points = [Point::origin(); MAX_FACE_NODES];
+            for (p, n) in points.iter_mut().zip(nodes) {
+                *p = coords[n.index()];
+            }
+            value(c, &points[..nodes.len()])
+        }))
     }
 }
 
@@ -124,9 +162,9 @@ pub(crate) struct QueryContext<'a> {
     pub active_check_factor: Real,
     /// Master bounding boxes by condition index (`None`: not a point-list condition; empty
     /// without the OBB test).
-    pub master_bvs: &'a PerMaster<Result<Bv, csm_geometry::Error>>,
+    pub master_bvs: &'a PerMaster<'a, Result<Bv, csm_geometry::Error>>,
     /// Master 18-DOPs (enlarged by `bbf`) by condition index, for `kdop_18` (empty otherwise).
-    pub master_kdops: &'a PerMaster<Kdop18>,
+    pub master_kdops: &'a PerMaster<'a, Kdop18>,
 }
 
 /// One candidate master that survived the order-independent tests.

@@ -11,7 +11,7 @@ use csm_model::{
     PartIdx, ScalarVar, UnitNormalsSnapshot, VectorVar, assign_nodal_h, compute_unit_normals,
     compute_unit_normals_reusing,
 };
-use csm_trees::KdTree;
+use csm_trees::{Aabb, KdTree};
 use rayon::prelude::*;
 
 use super::candidates::{Bv, Candidate, PerMaster, QueryContext, QueryScratch, slave_candidates};
@@ -1181,21 +1181,76 @@ pub(crate) struct TruthScene {
 /// The positions in `slaves` ordered along a Morton (Z-order) curve of the slave centres
 /// (node means, quantised to 21 bits per axis in their bounding box); ties by position, so the
 /// order is deterministic. Only the order of the parallel queries depends on it, never a result.
+#[cfg(test)]
 pub(crate) fn morton_order(model: &ModelPart, slaves: &[ConditionIdx]) -> Vec<usize> {
-    let coords = model.nodes().coordinates();
-    let centres: Vec<Point> = slaves
+    let centres: Vec<(usize, Point)> = slaves
         .par_iter()
-        .map(|c| {
-            let nodes = model.conditions().nodes(c.index());
-            let sum = nodes
-                .iter()
-                .fold(Vector::zeros(), |acc, n| acc + coords[n.index()].coords);
-            Point::from(sum / nodes.len().max(1) as Real)
-        })
+        .enumerate()
+        .map(|(k, c)| (k, reach(model, *c).0))
         .collect();
+    morton_order_of(&centres)
+}
+
+/// The centre of condition `c` (its node mean) and the largest distance from it to a node.
+pub(crate) fn reach(model: &ModelPart, c: ConditionIdx) -> (Point, Real) {
+    let coords = model.nodes().coordinates();
+    let nodes = model.conditions().nodes(c.index());
+    let sum = nodes
+        .iter()
+        .fold(Vector::zeros(), |acc, n| acc + coords[n.index()].coords);
+    let centre = Point::from(sum / nodes.len().max(1) as Real);
+    let radius = nodes
+        .iter()
+        .map(|n| (coords[n.index()] - centre).norm())
+        .fold(0.0, Real::max);
+    (centre, radius)
+}
+
+/// The tests' override of [`Far::is_far`]: 1 takes every query as far, 2 none (0: the
+/// estimate). Only the order of the queries depends on it, so other tests may run meanwhile.
+#[cfg(test)]
+pub(crate) static QUERY_REACH: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(0);
+
+/// Which slave queries stay far from the kd-tree's points (and end at its root): an estimate
+/// of the queries' reach, which only decides the order of the queries, never a result.
+pub(crate) struct Far {
+    bounds: Option<Aabb>,
+    /// How far a query reaches, in slave radii (twice the search factor, at least 2).
+    factor: Real,
+}
+
+impl Far {
+    pub(crate) fn new(bounds: Option<Aabb>, search_factor: Real) -> Far {
+        Far {
+            bounds,
+            factor: 2.0 * search_factor.max(1.0),
+        }
+    }
+
+    /// Whether the query of a slave of centre `centre` and radius `radius` (see [`reach`]) is
+    /// taken to stay far from the tree's points.
+    pub(crate) fn is_far(&self, centre: &Point, radius: Real) -> bool {
+        #[cfg(test)]
+        match QUERY_REACH.load(Ordering::Relaxed) {
+            1 => return true,
+            2 => return false,
+            _ => {}
+        }
+        self.bounds.is_some_and(|b| {
+            let outside = (b.mins - centre)
+                .sup(&(centre - b.maxs))
+                .sup(&Vector::zeros());
+            outside.norm() > self.factor * radius
+        })
+    }
+}
+
+/// The positions of `centres` (position, centre) ordered along a Morton curve of the centres
+/// (see [`morton_order`]).
+fn morton_order_of(centres: &[(usize, Point)]) -> Vec<usize> {
     let mut lo = Vector::repeat(Real::INFINITY);
     let mut hi = Vector::repeat(Real::NEG_INFINITY);
-    for p in &centres {
+    for (_, p) in centres {
         lo = lo.inf(&p.coords);
         hi = hi.sup(&p.coords);
     }
@@ -1219,8 +1274,7 @@ pub(crate) fn morton_order(model: &ModelPart, slaves: &[ConditionIdx]) -> Vec<us
     };
     let mut keyed: Vec<(u64, usize)> = centres
         .par_iter()
-        .enumerate()
-        .map(|(i, p)| {
+        .map(|&(i, p)| {
             let code = spread(quantise(p.x, 0))
                 | spread(quantise(p.y, 1)) << 1
                 | spread(quantise(p.z, 2)) << 2;
@@ -1378,9 +1432,12 @@ fn kdtree_search(
     // them with build_from_bounding_box = true (Q4). Allocated only for the OBB test.
     let master_bfb = p.check_gap != CheckGap::MappingCheck || p.octree.build_from_bounding_box;
     let masters: Vec<ConditionIdx> = points.iter().map(|(c, _)| ConditionIdx(*c)).collect();
+    // Built when first asked for by a query, which holds the model: both are dropped before
+    // the pairing changes it.
+    let shared: &ModelPart = model;
     let master_bvs = if with_obb {
-        PerMaster::build(model, &masters, |c, points| {
-            Geometry::new(model.conditions().kind(c.index()), points)
+        PerMaster::new(shared, &masters, move |c, points| {
+            Geometry::new(shared.conditions().kind(c.index()), points)
                 .and_then(|g| Bv::build(&g, dim, bbf, master_bfb, compatibility))
         })
     } else {
@@ -1388,7 +1445,7 @@ fn kdtree_search(
     };
     crate::trace::mark("master boxes");
     let master_kdops = if with_kdop {
-        PerMaster::build(model, &masters, |_, points| {
+        PerMaster::new(shared, &masters, move |_, points| {
             Kdop18::from_points(points).enlarged(bbf)
         })
     } else {
@@ -1427,46 +1484,87 @@ fn kdtree_search(
             master_bvs: &master_bvs,
             master_kdops: &master_kdops,
         };
-        // The queries run along a Morton curve of the slave centres (neighbouring queries
-        // visit the same tree nodes and masters); the results go back to the slave order.
-        let order = morton_order(model, &slaves);
-        let query_all = |tree: &KdTree<u32>| -> (Vec<QueryChunk>, bool) {
+        // The queries of the slaves far from the tree run as their nodes are read, in slave
+        // order; the others along a Morton curve of the slave centres (neighbouring queries
+        // visit the same tree nodes and masters). The results go back to the slave order.
+        let query_all = |tree: &KdTree<u32>| -> (Vec<usize>, Vec<QueryChunk>, bool) {
             let truncated = AtomicBool::new(false);
-            let found = order
+            let query = |scratch: &mut QueryScratch, out: &mut QueryChunk, k: usize| {
+                match slave_candidates(&cx, tree, slaves[k], scratch) {
+                    Ok(capped) => {
+                        if capped {
+                            truncated.store(true, Ordering::Relaxed);
+                        }
+                        out.list.extend_from_slice(&scratch.candidates);
+                        out.counts.push(scratch.candidates.len() as u32);
+                    }
+                    Err(e) => {
+                        out.counts.push(0);
+                        if out.error.as_ref().is_none_or(|(first, _)| k < *first) {
+                            out.error = Some((k, e));
+                        }
+                    }
+                }
+            };
+            let far = Far::new(tree.bounds(), p.search_factor);
+            let first: Vec<FarQueries> = slaves
                 .par_chunks(QUERY_CHUNK)
-                .map_init(QueryScratch::default, |scratch, chunk| {
-                    let mut out = QueryChunk::default();
-                    for &k in chunk {
-                        match slave_candidates(&cx, tree, slaves[k], scratch) {
-                            Ok(capped) => {
-                                if capped {
-                                    truncated.store(true, Ordering::Relaxed);
-                                }
-                                out.list.extend_from_slice(&scratch.candidates);
-                                out.counts.push(scratch.candidates.len() as u32);
-                            }
-                            Err(e) => {
-                                out.counts.push(0);
-                                if out.error.as_ref().is_none_or(|(first, _)| k < *first) {
-                                    out.error = Some((k, e));
-                                }
-                            }
+                .enumerate()
+                .map_init(QueryScratch::default, |scratch, (i, chunk)| {
+                    let mut out = FarQueries::default();
+                    for (j, &c) in chunk.iter().enumerate() {
+                        let k = i * QUERY_CHUNK + j;
+                        let (centre, radius) = reach(model, c);
+                        if far.is_far(&centre, radius) {
+                            query(scratch, &mut out.chunk, k);
+                            out.done.push(k);
+                        } else {
+                            out.near.push((k, centre));
                         }
                     }
                     out
                 })
                 .collect();
-            (found, truncated.into_inner())
+            let mut order = Vec::with_capacity(slaves.len());
+            let mut chunks = Vec::with_capacity(first.len());
+            let mut near = Vec::new();
+            for queries in first {
+                order.extend(queries.done);
+                chunks.push(queries.chunk);
+                near.extend(queries.near);
+            }
+            // Where many slaves come near the masters, most masters' boxes will be asked for:
+            // computed first, in master order.
+            if near.len() >= slaves.len() / 4 {
+                master_bvs.compute_all();
+                master_kdops.compute_all();
+            }
+            let curve = morton_order_of(&near);
+            chunks.extend(
+                curve
+                    .par_chunks(QUERY_CHUNK)
+                    .map_init(QueryScratch::default, |scratch, chunk| {
+                        let mut out = QueryChunk::default();
+                        for &k in chunk {
+                            query(scratch, &mut out, k);
+                        }
+                        out
+                    })
+                    .collect::<Vec<_>>(),
+            );
+            order.extend(curve);
+            (order, chunks, truncated.into_inner())
         };
-        let (mut in_curve_order, truncated) = query_all(&tree);
+        let (mut order, mut chunks, truncated) = query_all(&tree);
         if refitted && truncated {
             // A capped query keeps the first masters in traversal order: take a rebuilt
             // tree's order, as a step without a kept tree does.
             tree = KdTree::new(&points, p.bucket_size).map_err(tree_error)?;
-            in_curve_order = query_all(&tree).0;
+            (order, chunks, _) = query_all(&tree);
         }
-        SlaveCandidates::in_slave_order(&order, in_curve_order)
+        SlaveCandidates::in_slave_order(&order, chunks)
     };
+    drop((master_bvs, master_kdops));
     crate::trace::mark("slave queries");
     if keep_tree {
         pair.tree = Some(KeptTree { ids, tree });
@@ -1498,6 +1596,17 @@ struct QueryChunk {
     list: Vec<Candidate>,
     /// The error of the query with the smallest slave position, if any.
     error: Option<(usize, Error)>,
+}
+
+/// The first pass of the slave queries over consecutive slaves: the queries of the far ones.
+#[derive(Default)]
+struct FarQueries {
+    /// Their results.
+    chunk: QueryChunk,
+    /// Their positions, in order.
+    done: Vec<usize>,
+    /// The positions and centres of the others.
+    near: Vec<(usize, Point)>,
 }
 
 /// The candidates of every slave, flat: slave `k`'s are `list[start[k]..start[k + 1]]`.

@@ -790,6 +790,65 @@ fn morton_order_is_a_deterministic_z_curve_permutation() {
     }
 }
 
+/// The step's results do not depend on which slave queries run first (those taken to stay far
+/// from the masters, in slave order) and which along the Morton curve: every query taken as
+/// far, none, or the estimate, on plates whose slave half is lifted far away (the estimate
+/// then splits the slaves).
+#[test]
+fn the_order_of_the_slave_queries_does_not_change_the_step() {
+    use std::sync::atomic::Ordering;
+    let mut model = plates(8, -0.005, false);
+    let slave = model.find_part("Slave").unwrap();
+    let slave_nodes = model.part(slave).nodes().len();
+    let mid = 4.0 * H + H / 3.0;
+    // Both layers of the slave plate's prisms (the first 2 · 81 nodes) beyond the middle.
+    for i in 0..2 * 81 {
+        let p = &mut model.nodes_mut().coordinates_mut()[i];
+        if p.x > mid {
+            p.z += 50.0 * H;
+        }
+    }
+    assert_eq!(slave_nodes, 81);
+    let s = setup(r#"{"type_search": "in_radius_with_obb"}"#, "");
+    let step = |reach: u8| {
+        super::search::QUERY_REACH.store(reach, Ordering::Relaxed);
+        let mut m = model.clone();
+        let result = run(&mut m, &s);
+        super::search::QUERY_REACH.store(0, Ordering::Relaxed);
+        result
+    };
+    let estimated = step(0);
+    assert!(estimated.n_pairs() > 0);
+    assert_eq!(step(1), estimated, "every query first, in slave order");
+    assert_eq!(step(2), estimated, "every query along the curve");
+    // The estimate splits the slaves: some far from the masters' centres, some near.
+    let master = model.find_part("Master").unwrap();
+    let centres: Vec<Point> = model
+        .part(master)
+        .conditions()
+        .iter()
+        .map(|c| {
+            let nodes = model.conditions().nodes(c.index());
+            let sum = nodes.iter().fold(Point::origin().coords, |a, n| {
+                a + model.nodes().coordinates()[n.index()].coords
+            });
+            Point::from(sum / nodes.len() as f64)
+        })
+        .collect();
+    let bounds = csm_trees::Aabb::from_points(&centres);
+    let far = super::search::Far::new(bounds, 1.0);
+    let (mut n_far, mut n_near) = (0, 0);
+    for &c in model.part(slave).conditions() {
+        let (centre, radius) = super::search::reach(&model, c);
+        if far.is_far(&centre, radius) {
+            n_far += 1;
+        } else {
+            n_near += 1;
+        }
+    }
+    assert!(n_far > 20 && n_near > 20, "{n_far} far, {n_near} near");
+}
+
 /// One static step of the default search on plates bent into a bump: curved faces, so the
 /// mapping's mean normals and Kratos' unit normals differ.
 fn curved_plates_step() -> (ModelPart, SearchResult) {
