@@ -60,16 +60,21 @@ impl Bv {
 /// The function of a master condition and its node coordinates that [`PerMaster`] holds.
 type MasterValue<'a, T> = Box<dyn Fn(ConditionIdx, &[Point]) -> T + Sync + 'a>;
 
+/// Masters per block of [`PerMaster`] values.
+const MASTERS_PER_BLOCK: usize = 64;
+
 /// Data of one step per master-side condition (the kd-tree's points), computed when a query
-/// first asks for it (a master that no slave query reaches costs nothing but its slot) and
-/// kept for the step: a slot per condition index, the values only for the masters. The value
-/// is a function of the master alone, so which query computes it first does not matter.
+/// first asks for it, a block of [`MASTERS_PER_BLOCK`] consecutive masters at a time (the
+/// blocks no slave query reaches cost nothing but their slots), and kept for the step: a slot
+/// per condition index, the values only for the masters. A value is a function of its master
+/// alone, so which query computes it first does not matter.
 pub(crate) struct PerMaster<'a, T> {
-    /// By condition index: the position in `values`, or `u32::MAX`.
+    /// By condition index: the position in `masters`, or `u32::MAX`.
     slot: Vec<u32>,
     /// The masters, by position.
     masters: Vec<ConditionIdx>,
-    values: Vec<OnceLock<T>>,
+    /// The values of the masters, by block of positions.
+    blocks: Vec<OnceLock<Box<[T]>>>,
     model: Option<&'a ModelPart>,
     value: Option<MasterValue<'a, T>>,
 }
@@ -80,14 +85,14 @@ impl<'a, T: Send + Sync> PerMaster<'a, T> {
         PerMaster {
             slot: Vec::new(),
             masters: Vec::new(),
-            values: Vec::new(),
+            blocks: Vec::new(),
             model: None,
             value: None,
         }
     }
 
     /// `value(c, points)` for every master `c` of `model` in `masters` (`points`: its node
-    /// coordinates), each computed when first asked for.
+    /// coordinates), computed when first asked for.
     pub(crate) fn new(
         model: &'a ModelPart,
         masters: &[ConditionIdx],
@@ -100,7 +105,9 @@ impl<'a, T: Send + Sync> PerMaster<'a, T> {
         PerMaster {
             slot,
             masters: masters.to_vec(),
-            values: masters.iter().map(|_| OnceLock::new()).collect(),
+            blocks: (0..masters.len().div_ceil(MASTERS_PER_BLOCK))
+                .map(|_| OnceLock::new())
+                .collect(),
             model: Some(model),
             value: Some(Box::new(value)),
         }
@@ -110,30 +117,37 @@ impl<'a, T: Send + Sync> PerMaster<'a, T> {
     /// will be asked for, this reads them in memory order).
     pub(crate) fn compute_all(&self) {
         use rayon::prelude::*;
-        self.masters.par_iter().for_each(|&c| {
-            self.get(c);
+        (0..self.blocks.len()).into_par_iter().for_each(|b| {
+            self.block(b);
         });
     }
 
     /// The value of master `c`, if it has one.
     pub(crate) fn get(&self, c: ConditionIdx) -> Option<&T> {
-        let i = *self.slot.get(c.index())?;
+        let i = *self.slot.get(c.index())? as usize;
+        self.block(i / MASTERS_PER_BLOCK)
+            .and_then(|values| values.get(i % MASTERS_PER_BLOCK))
+    }
+
+    /// The values of block `b`, computed on the first call.
+    fn block(&self, b: usize) -> Option<&[T]> {
         let (Some(model), Some(value)) = (self.model, &self.value) else {
             return None;
         };
-        let cell = self.values.get(i as usize)?;
+        let cell = self.blocks.get(b)?;
         Some(cell.get_or_init(|| {
             let coords = model.nodes().coordinates();
-            let nodes = model.conditions().nodes(c.index());
-            if nodes.len() > MAX_FACE_NODES {
-                let points: Vec<Point> = nodes.iter().map(|n| coords[n.index()]).collect();
-                return value(c, &points);
-            }
-            let mut points = [Point::origin(); MAX_FACE_NODES];
-            for (p, n) in points.iter_mut().zip(nodes) {
-                *p = coords[n.index()];
-            }
-            value(c, &points[..nodes.len()])
+            let end = ((b + 1) * MASTERS_PER_BLOCK).min(self.masters.len());
+            let mut points = Vec::with_capacity(MAX_FACE_NODES);
+            self.masters[b * MASTERS_PER_BLOCK..end]
+                .iter()
+                .map(|&c| {
+                    let nodes = model.conditions().nodes(c.index());
+                    points.clear();
+                    points.extend(nodes.iter().map(|n| coords[n.index()]));
+                    value(c, &points)
+                })
+                .collect()
         }))
     }
 }
