@@ -520,13 +520,28 @@ struct FirstIterations {
     gaps: Vec<KnownGap>,
 }
 
-/// Whether the first two mapper iterations can follow the segmentation
-/// ([`stream_first_iterations`]): the store keeps the products of the master values (which
-/// do not change), and every node of a slave condition is a slave node (only those change,
-/// and every residual goes to them).
+/// INDEX_MAP entries from which the mapping streams its first iterations (below, keeping
+/// every pair's operators costs little memory and saves the batches' passes).
+const STREAM_MIN_ENTRIES: usize = 1 << 16;
+
+/// Whether the first two mapper iterations follow the segmentation
+/// ([`stream_first_iterations`]): on enough entries (at least [`STREAM_MIN_ENTRIES`]) where
+/// they can — the store keeps the products of the master values (which do not change), and
+/// every node of a slave condition is a slave node (only those change, and every residual goes
+/// to them).
 fn streams(m: &ModelPart, s: &Sides, slaves: &SlavePositions, store: OperatorStore) -> bool {
     #[cfg(test)]
     if crate::tests::FORCE_STORED.with(std::cell::Cell::get) {
+        return false;
+    }
+    // (The tests stream whatever the number of entries.)
+    let least = if cfg!(test) { 0 } else { STREAM_MIN_ENTRIES };
+    let entries: usize = s
+        .slave_conditions
+        .iter()
+        .map(|&c| m.index_map(c).len())
+        .sum();
+    if entries < least {
         return false;
     }
     if !matches!(store, OperatorStore::MasterProducts { .. }) {

@@ -244,7 +244,7 @@ impl FaceNormals {
     /// a quarter of the memory. [`KeptFaceNormals::subset`] reads the centre normals back.
     pub fn keep(self) -> KeptFaceNormals {
         KeptFaceNormals {
-            fingerprint: fingerprint(self.centres.iter()),
+            fingerprint: fingerprint(self.centres.len(), |i| self.centres[i]),
             stamp: self.stamp,
             conditions: self.conditions,
             ends: self.ends,
@@ -315,11 +315,15 @@ impl KeptFaceNormals {
     ) -> Option<[FaceNormals; N]> {
         const ABSENT: u32 = u32::MAX;
         let centres = model.condition_normals();
-        let kept = self.conditions.iter().map(|c| centres.get(c.index()));
-        if kept.clone().any(|n| n.is_none()) || fingerprint(kept.flatten()) != self.fingerprint {
+        let n_conditions = model.conditions().len();
+        if self.conditions.iter().any(|c| c.index() >= centres.len())
+            || fingerprint(self.conditions.len(), |i| {
+                centres[self.conditions[i].index()]
+            }) != self.fingerprint
+        {
             return None;
         }
-        let mut position = vec![ABSENT; model.conditions().len()];
+        let mut position = vec![ABSENT; n_conditions];
         for (i, c) in self.conditions.iter().enumerate() {
             *position.get_mut(c.index())? = i as u32;
         }
@@ -362,21 +366,33 @@ fn nodes_start(ends: &[u32], face: usize) -> usize {
     }
 }
 
-/// A 64-bit hash of the bits of every component of `normals`, in order (each word mixed in
-/// by the multiply-xorshift steps of SplitMix64's finaliser, so that every input bit reaches
-/// every output bit): tells whether the condition normals still hold a kept table's centre
-/// normals — a changed bit anywhere gives another hash but with a chance of about 2⁻⁶⁴.
-fn fingerprint<'a>(normals: impl Iterator<Item = &'a Vector>) -> u64 {
-    let mut hash = 0x9E37_79B9_7F4A_7C15u64;
-    for n in normals {
-        for c in n.iter() {
-            let mut z = hash ^ c.to_bits();
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            hash = z ^ (z >> 31);
-        }
-    }
-    hash
+/// Normals per parallel piece of [`fingerprint`].
+const FINGERPRINT_PIECE: usize = 4096;
+
+/// A 64-bit hash of the bits of every component of the `len` normals `normal(i)`, in order:
+/// each word is mixed in by the multiply-xorshift steps of SplitMix64's finaliser (so that
+/// every input bit reaches every output bit), piece by piece of [`FINGERPRINT_PIECE`] normals
+/// in parallel, then the pieces' hashes in order. Tells whether the condition normals still
+/// hold a kept table's centre normals — a changed bit anywhere gives another hash but with a
+/// chance of about 2⁻⁶⁴. The same for any thread count.
+fn fingerprint(len: usize, normal: impl Fn(usize) -> Vector + Sync) -> u64 {
+    const SEED: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mix = |hash: u64, word: u64| {
+        let mut z = hash ^ word;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    let pieces: Vec<u64> = (0..len.div_ceil(FINGERPRINT_PIECE))
+        .into_par_iter()
+        .map(|k| {
+            let end = ((k + 1) * FINGERPRINT_PIECE).min(len);
+            (k * FINGERPRINT_PIECE..end).fold(SEED, |hash, i| {
+                normal(i).iter().fold(hash, |h, c| mix(h, c.to_bits()))
+            })
+        })
+        .collect();
+    pieces.into_iter().fold(SEED, mix)
 }
 
 /// One chunk of faces' (node, normal) contributions of [`FaceNormals::nodal_sums`], sorted by
