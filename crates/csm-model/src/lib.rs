@@ -46,7 +46,8 @@ pub use nodal_data::{NodalData, ScalarVar, VectorVar};
 pub use nodal_h::{NodalHMode, assign_nodal_h, compute_nodal_h};
 pub use normals::{
     FaceNormals, FaceNormalsRef, KeptFaceNormals, NormalsMode, UnitNormalsSnapshot,
-    compute_unit_normals, compute_unit_normals_reusing, face_unit_normals,
+    compute_unit_normals, compute_unit_normals_reusing, compute_unit_normals_taking,
+    face_unit_normals,
 };
 pub use parts::SubModelPart;
 pub use process_info::ProcessInfo;

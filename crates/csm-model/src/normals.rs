@@ -306,6 +306,42 @@ impl KeptFaceNormals {
         Some(table)
     }
 
+    /// [`current_subset`](Self::current_subset), taking this table: where `conditions` are
+    /// its own faces in its order, its lists become the table's (no copy).
+    pub fn into_current_subset(
+        self,
+        model: &ModelPart,
+        conditions: &[ConditionIdx],
+    ) -> Option<FaceNormals> {
+        if self.conditions != conditions {
+            return self.current_subset(model, conditions);
+        }
+        let centres = model.condition_normals();
+        if self.stamp == GeometryStamp::default()
+            || self.stamp != model.geometry_stamp()
+            || !self.holds_centres(centres)
+        {
+            return None;
+        }
+        let centres = self.conditions.iter().map(|c| centres[c.index()]).collect();
+        Some(FaceNormals {
+            conditions: self.conditions,
+            centres,
+            ends: self.ends,
+            nodes: self.nodes,
+            stamp: self.stamp,
+        })
+    }
+
+    /// Whether the condition normals `centres` hold this table's centre normals (every
+    /// condition has one, and their fingerprint is the table's).
+    fn holds_centres(&self, centres: &[Vector]) -> bool {
+        self.conditions.iter().all(|c| c.index() < centres.len())
+            && fingerprint(self.conditions.len(), |i| {
+                centres[self.conditions[i].index()]
+            }) == self.fingerprint
+    }
+
     /// [`subset`](Self::subset) of each list of `lists`, with one check of the condition
     /// normals and one position table for all of them; `None` when one of them is `None`.
     pub fn subsets<const N: usize>(
@@ -316,11 +352,7 @@ impl KeptFaceNormals {
         const ABSENT: u32 = u32::MAX;
         let centres = model.condition_normals();
         let n_conditions = model.conditions().len();
-        if self.conditions.iter().any(|c| c.index() >= centres.len())
-            || fingerprint(self.conditions.len(), |i| {
-                centres[self.conditions[i].index()]
-            }) != self.fingerprint
-        {
+        if !self.holds_centres(centres) {
             return None;
         }
         let mut position = vec![ABSENT; n_conditions];
@@ -369,30 +401,33 @@ fn nodes_start(ends: &[u32], face: usize) -> usize {
 /// Normals per parallel piece of [`fingerprint`].
 const FINGERPRINT_PIECE: usize = 4096;
 
-/// A 64-bit hash of the bits of every component of the `len` normals `normal(i)`, in order:
-/// each word is mixed in by the multiply-xorshift steps of SplitMix64's finaliser (so that
-/// every input bit reaches every output bit), piece by piece of [`FINGERPRINT_PIECE`] normals
-/// in parallel, then the pieces' hashes in order. Tells whether the condition normals still
-/// hold a kept table's centre normals — a changed bit anywhere gives another hash but with a
+/// A 64-bit hash of the bits of every component of the `len` normals `normal(i)`: the wrapping
+/// sum over the words of SplitMix64's finaliser of the word plus its position times the golden
+/// ratio (so that every input bit reaches every output bit, and the same word elsewhere counts
+/// differently), the words independent of each other and the pieces of [`FINGERPRINT_PIECE`]
+/// normals in parallel. Tells whether the condition normals still hold a kept table's centre
+/// normals — a changed bit anywhere, or two normals exchanged, gives another hash but with a
 /// chance of about 2⁻⁶⁴. The same for any thread count.
 fn fingerprint(len: usize, normal: impl Fn(usize) -> Vector + Sync) -> u64 {
-    const SEED: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mix = |hash: u64, word: u64| {
-        let mut z = hash ^ word;
+    const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mix = |word: u64, position: usize| {
+        let mut z = word.wrapping_add((position as u64).wrapping_add(1).wrapping_mul(GOLDEN));
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)
     };
-    let pieces: Vec<u64> = (0..len.div_ceil(FINGERPRINT_PIECE))
+    (0..len.div_ceil(FINGERPRINT_PIECE))
         .into_par_iter()
         .map(|k| {
             let end = ((k + 1) * FINGERPRINT_PIECE).min(len);
-            (k * FINGERPRINT_PIECE..end).fold(SEED, |hash, i| {
-                normal(i).iter().fold(hash, |h, c| mix(h, c.to_bits()))
+            (k * FINGERPRINT_PIECE..end).fold(0u64, |sum, i| {
+                let n = normal(i);
+                sum.wrapping_add(mix(n.x.to_bits(), 3 * i))
+                    .wrapping_add(mix(n.y.to_bits(), 3 * i + 1))
+                    .wrapping_add(mix(n.z.to_bits(), 3 * i + 2))
             })
         })
-        .collect();
-    pieces.into_iter().fold(SEED, mix)
+        .reduce(|| 0, u64::wrapping_add)
 }
 
 /// One chunk of faces' (node, normal) contributions of [`FaceNormals::nodal_sums`], sorted by
@@ -500,13 +535,39 @@ pub fn compute_unit_normals_reusing(
     mode: NormalsMode,
     known: Option<&KeptFaceNormals>,
 ) -> Result<FaceNormals, Error> {
+    unit_normals_with(model, part, mode, |model, conditions| {
+        known.and_then(|k| k.current_subset(model, conditions))
+    })
+}
+
+/// [`compute_unit_normals_reusing`] that takes the kept table (its lists are moved into the
+/// table returned where they hold the same faces: [`KeptFaceNormals::into_current_subset`]).
+pub fn compute_unit_normals_taking(
+    model: &mut ModelPart,
+    part: Option<PartIdx>,
+    mode: NormalsMode,
+    known: Option<KeptFaceNormals>,
+) -> Result<FaceNormals, Error> {
+    unit_normals_with(model, part, mode, |model, conditions| {
+        known.and_then(|k| k.into_current_subset(model, conditions))
+    })
+}
+
+/// [`compute_unit_normals`] with the faces' own normals from `known(model, conditions)` where
+/// it has them.
+fn unit_normals_with(
+    model: &mut ModelPart,
+    part: Option<PartIdx>,
+    mode: NormalsMode,
+    known: impl FnOnce(&ModelPart, &[ConditionIdx]) -> Option<FaceNormals>,
+) -> Result<FaceNormals, Error> {
     let conditions = conditions_of(model, part);
     model.nodal_data_mut().add_vector(VectorVar::Normal);
     let n_nodes = model.nodes().len();
     // The per-face normals in parallel; the sums in condition order, as Kratos' serial loop
     // adds them (identical results for any thread count). `count`: how many faces a node
     // has — Kratos normalises it that often (Q38).
-    let faces = match known.and_then(|k| k.current_subset(model, &conditions)) {
+    let faces = match known(model, &conditions) {
         Some(faces) => faces,
         None => face_unit_normals(model, &conditions)?,
     };

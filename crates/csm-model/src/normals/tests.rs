@@ -340,13 +340,44 @@ fn a_current_kept_table_gives_what_computing_gives() {
             .unwrap();
     assert_eq!(table, expected);
     assert!(same(&reused, &expected_model));
+    let mut taken = mp.clone();
+    let table = compute_unit_normals_taking(
+        &mut taken,
+        Some(part),
+        NormalsMode::Kratos,
+        Some(kept.clone()),
+    )
+    .unwrap();
+    assert_eq!(table, expected);
+    assert!(same(&taken, &expected_model));
+    // Taken for all of its own faces, its lists become the table's: the same results.
+    let everything = mp.create_part("Everything").unwrap();
+    mp.add_conditions_to_part(everything, &all_conditions(&mp));
+    let fresh_of_all = |mp: &ModelPart| {
+        let mut again = mp.clone();
+        let table =
+            compute_unit_normals(&mut again, Some(everything), NormalsMode::Kratos).unwrap();
+        (table, again)
+    };
+    let (expected_all, expected_all_model) = fresh_of_all(&mp);
+    let mut taken = mp.clone();
+    let table = compute_unit_normals_taking(
+        &mut taken,
+        Some(everything),
+        NormalsMode::Kratos,
+        Some(kept.clone()),
+    )
+    .unwrap();
+    assert_eq!(table, expected_all);
+    assert!(same(&taken, &expected_all_model));
     // After a change of the coordinates (a node moved, the table's values would be wrong),
-    // of a condition's nodes, or of the condition normals, it is not used, and the results
-    // are those of a computation.
-    let moves: [fn(&mut ModelPart); 3] = [
+    // of a condition's nodes, or of the condition normals (one flipped, two exchanged), it
+    // is not used, and the results are those of a computation.
+    let moves: [fn(&mut ModelPart); 4] = [
         |m| m.nodes_mut().coordinates_mut()[5].z += 0.01,
         |m| m.conditions_mut().reverse_nodes(2),
         |m| m.condition_normals_mut()[4] *= -1.0,
+        |m| m.condition_normals_mut().swap(0, 2),
     ];
     for change in moves {
         let mut moved = mp.clone();
@@ -358,5 +389,18 @@ fn a_current_kept_table_gives_what_computing_gives() {
                 .unwrap();
         assert_eq!(table, expected);
         assert!(same(&moved, &expected_model));
+        // Taken, for its own faces: not used either.
+        let mut taken = mp.clone();
+        change(&mut taken);
+        let (expected, expected_model) = fresh_of_all(&taken);
+        let table = compute_unit_normals_taking(
+            &mut taken,
+            Some(everything),
+            NormalsMode::Kratos,
+            Some(kept.clone()),
+        )
+        .unwrap();
+        assert_eq!(table, expected);
+        assert!(same(&taken, &expected_model));
     }
 }

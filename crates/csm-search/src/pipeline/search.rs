@@ -9,7 +9,7 @@ use csm_geometry::{Geometry, Kdop18};
 use csm_model::{
     ConditionId, ConditionIdx, Flag, KeptFaceNormals, ModelPart, NodalHMode, NodeIdx, NormalsMode,
     PartIdx, ScalarVar, UnitNormalsSnapshot, VectorVar, assign_nodal_h, compute_unit_normals,
-    compute_unit_normals_reusing,
+    compute_unit_normals_reusing, compute_unit_normals_taking,
 };
 use csm_trees::{Aabb, KdTree};
 use rayon::prelude::*;
@@ -860,12 +860,13 @@ fn update_mortar_conditions(
     };
     // The faces' own normals are kept for MappingCheck's mapping: nothing moves the nodes or
     // changes the condition normals before it.
-    let face_normals =
+    // The last pair to use the initial table takes it (its lists then need no copy).
+    let face_normals = if initial.last_user {
+        compute_unit_normals_taking(model, Some(sub), normals_mode, initial.table.take())
+    } else {
         compute_unit_normals_reusing(model, Some(sub), normals_mode, initial.table.as_ref())
-            .map_err(model_error)?;
-    if initial.last_user {
-        *initial.table = None;
     }
+    .map_err(model_error)?;
     let face_normals = (p.check_gap == CheckGap::MappingCheck).then(|| face_normals.keep());
     crate::trace::mark("unit normals");
     // 3. The running id of created pairs: after the largest condition id of the root (the
