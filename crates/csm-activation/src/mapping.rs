@@ -128,9 +128,50 @@ pub fn mean_h(model: &ModelPart, sub: PartIdx, inverted: bool) -> Real {
 
 /// Geometry points, condition normal and nodal (historical) normals of a condition.
 pub(crate) struct FaceData {
-    pub points: Vec<Point>,
+    pub points: PerNode<Point>,
     pub normal: Vector,
-    pub nodal_normals: Vec<Vector>,
+    pub nodal_normals: PerNode<Vector>,
+}
+
+/// One value per node of a condition: up to [`MAX_FACE_NODES`] in place (no allocation for a
+/// face), more on the heap.
+#[derive(Clone)]
+pub(crate) struct PerNode<T> {
+    inline: [T; MAX_FACE_NODES],
+    len: usize,
+    heap: Vec<T>,
+}
+
+impl<T: Copy> PerNode<T> {
+    /// The values of `values` (`fill`: what the unused places hold).
+    fn new(values: impl ExactSizeIterator<Item = T>, fill: T) -> PerNode<T> {
+        let len = values.len();
+        let mut out = PerNode {
+            inline: [fill; MAX_FACE_NODES],
+            len,
+            heap: Vec::new(),
+        };
+        if len <= MAX_FACE_NODES {
+            for (place, v) in out.inline.iter_mut().zip(values) {
+                *place = v;
+            }
+        } else {
+            out.heap.extend(values);
+        }
+        out
+    }
+}
+
+impl<T> std::ops::Deref for PerNode<T> {
+    type Target = [T];
+
+    fn deref(&self) -> &[T] {
+        if self.len <= MAX_FACE_NODES {
+            &self.inline[..self.len]
+        } else {
+            &self.heap
+        }
+    }
 }
 
 pub(crate) fn face_data(model: &ModelPart, c: ConditionIdx) -> FaceData {
@@ -143,23 +184,26 @@ pub(crate) fn face_data_with(
     c: ConditionIdx,
     normals: Option<&[Vector]>,
 ) -> FaceData {
-    let mut points = Vec::new();
-    model.gather_points(model.conditions().nodes(c.index()), &mut points);
+    let coords = model.nodes().coordinates();
+    let nodes = model.conditions().nodes(c.index());
     FaceData {
-        points,
+        points: PerNode::new(nodes.iter().map(|n| coords[n.index()]), Point::origin()),
         normal: model.condition_normals()[c.index()],
         nodal_normals: nodal_normals(model, c, normals),
     }
 }
 
 /// The nodal normals of condition `c` taken from `normals` (by node index; zero without).
-fn nodal_normals(model: &ModelPart, c: ConditionIdx, normals: Option<&[Vector]>) -> Vec<Vector> {
-    model
-        .conditions()
-        .nodes(c.index())
-        .iter()
-        .map(|n| normals.map_or(Vector::zeros(), |col| col[n.index()]))
-        .collect()
+fn nodal_normals(
+    model: &ModelPart,
+    c: ConditionIdx,
+    normals: Option<&[Vector]>,
+) -> PerNode<Vector> {
+    let nodes = model.conditions().nodes(c.index()).iter();
+    PerNode::new(
+        nodes.map(|n| normals.map_or(Vector::zeros(), |col| col[n.index()])),
+        Vector::zeros(),
+    )
 }
 
 pub(crate) fn make_face<'a>(
