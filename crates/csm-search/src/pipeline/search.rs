@@ -592,7 +592,8 @@ impl ContactSearch {
             // Collected in vectors and bulk-built into the maps (sorted input: no per-entry
             // tree insertion).
             let mut slaves: Vec<(u32, Vec<u32>)> = Vec::new();
-            let mut node_list: Vec<NodeIdx> = Vec::new();
+            // The slave side's nodes, by node index (no sort of every face's nodes).
+            let mut on_slave_side = vec![false; model.nodes().len()];
             let gaps = if pair.params.check_gap == CheckGap::MappingCheck {
                 model.nodal_data().scalar(ScalarVar::NormalGap, 0)
             } else {
@@ -608,16 +609,17 @@ impl ContactSearch {
                     .map(ConditionId::get)
                     .collect();
                 slaves.push((ids[c.index()], masters));
-                node_list.extend(model.conditions().nodes(c.index()).iter().copied());
+                for n in model.conditions().nodes(c.index()) {
+                    on_slave_side[n.index()] = true;
+                }
             }
             // A part's conditions are duplicate-free, so each id comes once.
             slaves.sort_unstable_by_key(|(id, _)| *id);
             let slaves: std::collections::BTreeMap<u32, Vec<u32>> = slaves.into_iter().collect();
-            node_list.sort_unstable();
-            node_list.dedup();
-            let mut node_results: Vec<(u32, NodeResult)> = node_list
-                .into_iter()
-                .map(|n| {
+            let mut node_results: Vec<(u32, NodeResult)> = (0..on_slave_side.len())
+                .filter(|&i| on_slave_side[i])
+                .map(|i| {
+                    let n = NodeIdx(i as u32);
                     let flags = model.nodes().flags()[n.index()];
                     // NORMAL_GAP is never written by No/DirectCheck (null); MappingCheck's
                     // 1e12 "not mapped" sentinel is null too.
