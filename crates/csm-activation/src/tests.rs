@@ -71,15 +71,20 @@ fn scene(gap: f64) -> (ModelPart, PartIdx) {
         f.set(Flag::SLAVE, c == s);
         f.set(Flag::MASTER, c != s);
     }
+    unit_h_and_normals(&mut m, sub);
+    m.index_map_mut(s).add_id(ConditionId(2));
+    m.index_map_mut(s).add_id(ConditionId(3));
+    (m, sub)
+}
+
+/// NODAL_H = 1 on every node, and the unit normals of `sub`.
+fn unit_h_and_normals(m: &mut ModelPart, sub: PartIdx) {
     m.nodal_data_mut().add_scalar(ScalarVar::NodalH);
     m.nodal_data_mut()
         .scalar_mut(ScalarVar::NodalH, 0)
         .unwrap()
         .fill(1.0);
-    compute_unit_normals(&mut m, Some(sub), csm_model::NormalsMode::Once).unwrap();
-    m.index_map_mut(s).add_id(ConditionId(2));
-    m.index_map_mut(s).add_id(ConditionId(3));
-    (m, sub)
+    compute_unit_normals(m, Some(sub), csm_model::NormalsMode::Once).unwrap();
 }
 
 /// [`scene`] with a gap of 0.01 and three nodes moved off their plane: warped
@@ -608,6 +613,11 @@ fn grid_scene(n: usize, (pitch, shift, gap): (f64, f64, f64)) -> (ModelPart, Par
     let slave_node = grid(&mut m, n, 1.0, 0.0, 0.0);
     let master_node = grid(&mut m, n + 1, pitch, shift, gap);
     let n_nodes = m.nodes().len();
+    let add_quad = |m: &mut ModelPart, id: ConditionId, nodes: &[NodeId]| {
+        let kind = GeometryKind::Quadrilateral3D4;
+        m.add_condition(id, kind, "c", nodes, PropertiesId(0))
+            .unwrap()
+    };
     // A permutation of 1..=count by a multiplier prime to it.
     let scrambled = |k: usize, count: usize| ConditionId((k * 7919 % count + 1) as u32);
     let mut slaves = Vec::new();
@@ -619,16 +629,7 @@ fn grid_scene(n: usize, (pitch, shift, gap): (f64, f64, f64)) -> (ModelPart, Par
             slave_node(i + 1, j + 1),
             slave_node(i, j + 1),
         ];
-        let id = scrambled(k, n * n);
-        let c = m
-            .add_condition(
-                id,
-                GeometryKind::Quadrilateral3D4,
-                "c",
-                &nodes,
-                PropertiesId(0),
-            )
-            .unwrap();
+        let c = add_quad(&mut m, scrambled(k, n * n), &nodes);
         slaves.push((c, [i as f64, j as f64]));
     }
     let cells = n + 1;
@@ -642,15 +643,7 @@ fn grid_scene(n: usize, (pitch, shift, gap): (f64, f64, f64)) -> (ModelPart, Par
             master_node(i + 1, j),
         ];
         let id = ConditionId((n * n + 1) as u32 + scrambled(k, cells * cells).get());
-        let c = m
-            .add_condition(
-                id,
-                GeometryKind::Quadrilateral3D4,
-                "c",
-                &nodes,
-                PropertiesId(0),
-            )
-            .unwrap();
+        let c = add_quad(&mut m, id, &nodes);
         let corner = [shift + pitch * i as f64, shift + pitch * j as f64];
         masters.push((c, id, corner));
     }
@@ -674,12 +667,7 @@ fn grid_scene(n: usize, (pitch, shift, gap): (f64, f64, f64)) -> (ModelPart, Par
     for &(c, _, _) in &masters {
         m.conditions_mut().flags_mut()[c.index()].set(Flag::MASTER, true);
     }
-    m.nodal_data_mut().add_scalar(ScalarVar::NodalH);
-    m.nodal_data_mut()
-        .scalar_mut(ScalarVar::NodalH, 0)
-        .unwrap()
-        .fill(1.0);
-    compute_unit_normals(&mut m, Some(sub), csm_model::NormalsMode::Once).unwrap();
+    unit_h_and_normals(&mut m, sub);
     // Both ways: the inverted mapping's slave side is the master side.
     let slave_ids = m.conditions().ids().to_vec();
     for &(c, [x, y]) in &slaves {

@@ -340,14 +340,14 @@ fn a_current_kept_table_gives_what_computing_gives() {
             .unwrap();
     assert_eq!(table, expected);
     assert!(same(&reused, &expected_model));
-    let mut taken = mp.clone();
-    let table = compute_unit_normals_taking(
-        &mut taken,
-        Some(part),
-        NormalsMode::Kratos,
-        Some(kept.clone()),
-    )
-    .unwrap();
+    // Taken (a copy of it) by the unit normals of `part` of `mp`: the table and the model.
+    let take = |mp: &ModelPart, part: PartIdx| {
+        let mut taken = mp.clone();
+        let mode = NormalsMode::Kratos;
+        let table = compute_unit_normals_taking(&mut taken, Some(part), mode, Some(kept.clone()));
+        (table.unwrap(), taken)
+    };
+    let (table, taken) = take(&mp, part);
     assert_eq!(table, expected);
     assert!(same(&taken, &expected_model));
     // Taken for all of its own faces, its lists become the table's: the same results.
@@ -360,14 +360,7 @@ fn a_current_kept_table_gives_what_computing_gives() {
         (table, again)
     };
     let (expected_all, expected_all_model) = fresh_of_all(&mp);
-    let mut taken = mp.clone();
-    let table = compute_unit_normals_taking(
-        &mut taken,
-        Some(everything),
-        NormalsMode::Kratos,
-        Some(kept.clone()),
-    )
-    .unwrap();
+    let (table, taken) = take(&mp, everything);
     assert_eq!(table, expected_all);
     assert!(same(&taken, &expected_all_model));
     // After a change of the coordinates (a node moved, the table's values would be wrong),
@@ -390,16 +383,10 @@ fn a_current_kept_table_gives_what_computing_gives() {
         assert_eq!(table, expected);
         assert!(same(&moved, &expected_model));
         // Taken, for its own faces: not used either.
-        let mut taken = mp.clone();
-        change(&mut taken);
-        let (expected, expected_model) = fresh_of_all(&taken);
-        let table = compute_unit_normals_taking(
-            &mut taken,
-            Some(everything),
-            NormalsMode::Kratos,
-            Some(kept.clone()),
-        )
-        .unwrap();
+        let mut changed = mp.clone();
+        change(&mut changed);
+        let (expected, expected_model) = fresh_of_all(&changed);
+        let (table, taken) = take(&changed, everything);
         assert_eq!(table, expected);
         assert!(same(&taken, &expected_model));
     }
