@@ -133,11 +133,11 @@ pub(crate) struct FaceData {
     pub nodal_normals: PerNode<Vector>,
 }
 
-/// One value per node of a condition: up to [`MAX_FACE_NODES`] in place (no allocation for a
-/// face), more on the heap.
+/// One value per node of a condition: up to [`MAX_MORTAR_FACE_NODES`] in place (no allocation
+/// for a mortar face), more on the heap (a face the mortar routines refuse).
 #[derive(Clone)]
 pub(crate) struct PerNode<T> {
-    inline: [T; MAX_FACE_NODES],
+    inline: [T; MAX_MORTAR_FACE_NODES],
     len: usize,
     heap: Vec<T>,
 }
@@ -147,11 +147,11 @@ impl<T: Copy> PerNode<T> {
     fn new(values: impl ExactSizeIterator<Item = T>, fill: T) -> PerNode<T> {
         let len = values.len();
         let mut out = PerNode {
-            inline: [fill; MAX_FACE_NODES],
+            inline: [fill; MAX_MORTAR_FACE_NODES],
             len,
             heap: Vec::new(),
         };
-        if len <= MAX_FACE_NODES {
+        if len <= MAX_MORTAR_FACE_NODES {
             for (place, v) in out.inline.iter_mut().zip(values) {
                 *place = v;
             }
@@ -166,7 +166,7 @@ impl<T> std::ops::Deref for PerNode<T> {
     type Target = [T];
 
     fn deref(&self) -> &[T] {
-        if self.len <= MAX_FACE_NODES {
+        if self.len <= MAX_MORTAR_FACE_NODES {
             &self.inline[..self.len]
         } else {
             &self.heap
