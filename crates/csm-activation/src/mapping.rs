@@ -270,6 +270,18 @@ struct SlaveMapping {
     gaps: Vec<KnownGap>,
 }
 
+impl SlaveMapping {
+    /// Its kept pairs and their operators only (the removed entries and the weighted gaps
+    /// are reported and taken before).
+    fn kept_part(self) -> SlaveMapping {
+        SlaveMapping {
+            kept: self.kept,
+            operators: self.operators,
+            ..SlaveMapping::default()
+        }
+    }
+}
+
 /// What the mapping needs to compute the weighted gap of its kept pairs as well
 /// ([`normal_gap_process_keeping`]).
 #[derive(Clone, Copy)]
@@ -293,22 +305,21 @@ pub(crate) enum OperatorStore {
 }
 
 impl OperatorStore {
-    /// The store of a mapping between the sides `s` (`origin`: not inverted; `dim`
-    /// components): the master values stay as the mapping sets them through the iterations
-    /// unless a master node is also a slave node (the iterations update the slave nodes).
-    pub(crate) fn for_sides(s: &Sides, n_nodes: usize, origin: bool, dim: usize) -> OperatorStore {
+    /// The store of a mapping between the sides `s` (`slaves`: their slave nodes' positions;
+    /// `origin`: not inverted; `dim` components): the master values stay as the mapping sets
+    /// them through the iterations unless a master node is also a slave node (the iterations
+    /// update the slave nodes).
+    pub(crate) fn for_sides(
+        s: &Sides,
+        slaves: &SlavePositions,
+        origin: bool,
+        dim: usize,
+    ) -> OperatorStore {
         #[cfg(test)]
         if crate::tests::FORCE_OPERATORS.with(std::cell::Cell::get) {
             return OperatorStore::Operators;
         }
-        let mut slave = vec![false; n_nodes];
-        for n in &s.slave_nodes {
-            slave[n.index()] = true;
-        }
-        if s.master_nodes
-            .iter()
-            .any(|n| slave.get(n.index()) == Some(&true))
-        {
+        if s.master_nodes.iter().any(|&n| slaves.get(n).is_some()) {
             OperatorStore::Operators
         } else {
             OperatorStore::MasterProducts { origin, dim }
@@ -406,18 +417,13 @@ fn segment_slaves(
     per_slave.into_iter().collect()
 }
 
-/// The mappings with kept pairs, without their removed entries and weighted gaps (reported
-/// and taken before): most slave conditions have none on a large interface with a small
-/// contact zone.
+/// The [kept parts](SlaveMapping::kept_part) of the mappings with kept pairs: most slave
+/// conditions have none on a large interface with a small contact zone.
 fn kept_only(per_slave: Vec<SlaveMapping>) -> Vec<SlaveMapping> {
     per_slave
         .into_iter()
         .filter(|m| !m.kept.is_empty())
-        .map(|m| SlaveMapping {
-            kept: m.kept,
-            operators: m.operators,
-            ..SlaveMapping::default()
-        })
+        .map(SlaveMapping::kept_part)
         .collect()
 }
 
@@ -513,13 +519,13 @@ impl Residual<'_> {
 
 /// The positions of the slave nodes in [`Sides::slave_nodes`] by node index: the mapper's
 /// arrays by slave node.
-struct SlavePositions(Vec<u32>);
+pub(crate) struct SlavePositions(Vec<u32>);
 
 impl SlavePositions {
     /// Not a slave node.
     const NONE: u32 = u32::MAX;
 
-    fn new(s: &Sides, n_nodes: usize) -> SlavePositions {
+    pub(crate) fn new(s: &Sides, n_nodes: usize) -> SlavePositions {
         let mut positions = vec![SlavePositions::NONE; n_nodes];
         for (j, n) in s.slave_nodes.iter().enumerate() {
             positions[n.index()] = u32::try_from(j).expect("node positions fit u32");
@@ -578,6 +584,9 @@ fn streams(m: &ModelPart, s: &Sides, slaves: &SlavePositions, store: OperatorSto
     if crate::tests::FORCE_STORED.with(std::cell::Cell::get) {
         return false;
     }
+    if !matches!(store, OperatorStore::MasterProducts { .. }) {
+        return false;
+    }
     // (The tests stream whatever the number of entries.)
     let least = if cfg!(test) { 0 } else { STREAM_MIN_ENTRIES };
     let entries: usize = s
@@ -585,18 +594,13 @@ fn streams(m: &ModelPart, s: &Sides, slaves: &SlavePositions, store: OperatorSto
         .iter()
         .map(|&c| m.index_map(c).len())
         .sum();
-    if entries < least {
-        return false;
-    }
-    if !matches!(store, OperatorStore::MasterProducts { .. }) {
-        return false;
-    }
-    s.slave_conditions.iter().all(|c| {
-        m.conditions()
-            .nodes(c.index())
-            .iter()
-            .all(|&n| slaves.get(n).is_some())
-    })
+    entries >= least
+        && s.slave_conditions.iter().all(|c| {
+            m.conditions()
+                .nodes(c.index())
+                .iter()
+                .all(|&n| slaves.get(n).is_some())
+        })
 }
 
 /// The segmentation of every INDEX_MAP entry ([`segment_slaves`], batch after batch of
@@ -664,11 +668,7 @@ fn stream_first_iterations(
                 residual.add(m, (sc, mc, packed), &mut first.vaux[0]);
                 add_area(m, sc, packed, (&mut first.area, slaves));
             }
-            pending.push_back(SlaveMapping {
-                kept: mapped.kept,
-                operators: mapped.operators,
-                ..SlaveMapping::default()
-            });
+            pending.push_back(mapped.kept_part());
         }
         // The second iteration of the pairs whose slave nodes are done, in order.
         let [vaux0, vaux1] = &mut first.vaux;
@@ -985,7 +985,7 @@ fn normal_gap_process_inner(
             distance_threshold: settings.distance_threshold,
         },
         op: OperatorSettings::mapper(),
-        store: OperatorStore::for_sides(&s, n_nodes, o, dim),
+        store: OperatorStore::for_sides(&s, &slaves, o, dim),
         weighted_gap,
     };
     let mut report = MappingReport::default();
@@ -1021,9 +1021,8 @@ fn normal_gap_process_inner(
     // By slave node (Kratos' VAUX of the other nodes is never read).
     let mut vaux = Vec::new();
     while !converged && iteration < MAPPER_MAX_ITERATIONS {
-        vaux.clear();
-        vaux.resize(s.slave_nodes.len(), Vector::zeros());
         match first.as_mut().filter(|_| iteration < 2) {
+            // The streamed sums replace the previous iteration's.
             Some(first) => {
                 std::mem::swap(&mut vaux, &mut first.vaux[iteration]);
                 if iteration == 0 {
@@ -1041,6 +1040,8 @@ fn normal_gap_process_inner(
                     per_slave = Some(kept_only(segment_slaves(m, &s.slave_conditions, &tasks)?));
                 }
                 let per_slave = per_slave.as_deref().unwrap_or_default();
+                vaux.clear();
+                vaux.resize(s.slave_nodes.len(), Vector::zeros());
                 let residual = Residual {
                     store: tasks.store,
                     dim,

@@ -566,7 +566,12 @@ fn master_products_map_as_the_operators() {
         };
         let s = crate::mapping::sides(&model, sub, inverted);
         assert!(matches!(
-            crate::mapping::OperatorStore::for_sides(&s, model.nodes().len(), !inverted, 3),
+            crate::mapping::OperatorStore::for_sides(
+                &s,
+                &crate::mapping::SlavePositions::new(&s, model.nodes().len()),
+                !inverted,
+                3
+            ),
             crate::mapping::OperatorStore::MasterProducts { .. }
         ));
         let mut with_products = model.clone();
@@ -583,7 +588,12 @@ fn master_products_map_as_the_operators() {
     base.nodes_mut().flags_mut()[4].set(Flag::SLAVE, true);
     let s = crate::mapping::sides(&base, sub, false);
     assert!(matches!(
-        crate::mapping::OperatorStore::for_sides(&s, base.nodes().len(), true, 3),
+        crate::mapping::OperatorStore::for_sides(
+            &s,
+            &crate::mapping::SlavePositions::new(&s, base.nodes().len()),
+            true,
+            3
+        ),
         crate::mapping::OperatorStore::Operators
     ));
 }

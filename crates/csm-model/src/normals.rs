@@ -298,7 +298,7 @@ impl KeptFaceNormals {
         model: &ModelPart,
         conditions: &[ConditionIdx],
     ) -> Option<FaceNormals> {
-        if self.stamp == GeometryStamp::default() || self.stamp != model.geometry_stamp() {
+        if !self.is_current(model) {
             return None;
         }
         let [mut table] = self.subsets(model, [conditions])?;
@@ -317,10 +317,7 @@ impl KeptFaceNormals {
             return self.current_subset(model, conditions);
         }
         let centres = model.condition_normals();
-        if self.stamp == GeometryStamp::default()
-            || self.stamp != model.geometry_stamp()
-            || !self.holds_centres(centres)
-        {
+        if !self.is_current(model) || !self.holds_centres(centres) {
             return None;
         }
         let centres = self.conditions.iter().map(|c| centres[c.index()]).collect();
@@ -331,6 +328,12 @@ impl KeptFaceNormals {
             nodes: self.nodes,
             stamp: self.stamp,
         })
+    }
+
+    /// Whether `model`'s geometry is the one the table was computed on (a table without a
+    /// stamp never is).
+    fn is_current(&self, model: &ModelPart) -> bool {
+        self.stamp != GeometryStamp::default() && self.stamp == model.geometry_stamp()
     }
 
     /// Whether the condition normals `centres` hold this table's centre normals (every
@@ -351,11 +354,10 @@ impl KeptFaceNormals {
     ) -> Option<[FaceNormals; N]> {
         const ABSENT: u32 = u32::MAX;
         let centres = model.condition_normals();
-        let n_conditions = model.conditions().len();
         if !self.holds_centres(centres) {
             return None;
         }
-        let mut position = vec![ABSENT; n_conditions];
+        let mut position = vec![ABSENT; model.conditions().len()];
         for (i, c) in self.conditions.iter().enumerate() {
             *position.get_mut(c.index())? = i as u32;
         }

@@ -75,8 +75,8 @@ pub(crate) struct PerMaster<'a, T> {
     masters: Vec<ConditionIdx>,
     /// The values of the masters, by block of positions.
     blocks: Vec<OnceLock<Box<[T]>>>,
-    model: Option<&'a ModelPart>,
-    value: Option<MasterValue<'a, T>>,
+    /// The model and the function of the values (none for [`PerMaster::none`]).
+    source: Option<(&'a ModelPart, MasterValue<'a, T>)>,
 }
 
 impl<'a, T: Send + Sync> PerMaster<'a, T> {
@@ -86,8 +86,7 @@ impl<'a, T: Send + Sync> PerMaster<'a, T> {
             slot: Vec::new(),
             masters: Vec::new(),
             blocks: Vec::new(),
-            model: None,
-            value: None,
+            source: None,
         }
     }
 
@@ -108,8 +107,7 @@ impl<'a, T: Send + Sync> PerMaster<'a, T> {
             blocks: (0..masters.len().div_ceil(MASTERS_PER_BLOCK))
                 .map(|_| OnceLock::new())
                 .collect(),
-            model: Some(model),
-            value: Some(Box::new(value)),
+            source: Some((model, Box::new(value))),
         }
     }
 
@@ -131,20 +129,15 @@ impl<'a, T: Send + Sync> PerMaster<'a, T> {
 
     /// The values of block `b`, computed on the first call.
     fn block(&self, b: usize) -> Option<&[T]> {
-        let (Some(model), Some(value)) = (self.model, &self.value) else {
-            return None;
-        };
+        let (model, value) = self.source.as_ref()?;
         let cell = self.blocks.get(b)?;
         Some(cell.get_or_init(|| {
-            let coords = model.nodes().coordinates();
             let end = ((b + 1) * MASTERS_PER_BLOCK).min(self.masters.len());
             let mut points = Vec::with_capacity(MAX_FACE_NODES);
             self.masters[b * MASTERS_PER_BLOCK..end]
                 .iter()
                 .map(|&c| {
-                    let nodes = model.conditions().nodes(c.index());
-                    points.clear();
-                    points.extend(nodes.iter().map(|n| coords[n.index()]));
+                    model.gather_points(model.conditions().nodes(c.index()), &mut points);
                     value(c, &points)
                 })
                 .collect()
