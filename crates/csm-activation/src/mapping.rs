@@ -7,7 +7,7 @@ use csm_geometry::{
     SlaveSegmentation, dual_basis, integration_points, mortar_operators,
 };
 use csm_model::{
-    ConditionId, ConditionIdx, FaceNormals, Flag, GATHER_BLOCK, GatheredPoints, KeptFaceNormals,
+    ConditionId, ConditionIdx, Flag, GATHER_BLOCK, GatheredPoints, KeptFaceNormals, KeptPositions,
     ModelPart, NodeIdx, PartIdx, ScalarVar, VectorVar,
 };
 
@@ -223,31 +223,43 @@ pub(crate) fn make_face<'a>(
 /// `ComputeNodesMeanNormalModelPart` of one side: nodal NORMAL := 0 on the nodes of its
 /// conditions, condition normal := unit normal at the centre, every node accumulates the unit
 /// normal at its own local coordinates, then one normalisation (norm > eps).
-/// `known`: the table of these faces' unit normals on the current coordinates, where the
-/// caller has it ([`KeptFaceNormals::subsets`]; computed here otherwise).
+/// `known`: the kept table of these faces' unit normals on the current coordinates, where the
+/// caller has it ([`KeptFaceNormals::positions`]: its centre normals are the condition
+/// normals already); computed here otherwise.
 pub(crate) fn mean_normals(
     model: &mut ModelPart,
     conditions: &[ConditionIdx],
-    known: Option<FaceNormals>,
+    known: Option<&KeptPositions<'_>>,
 ) -> Result<(), Error> {
     model.nodal_data_mut().add_vector(VectorVar::Normal);
-    let faces = match known {
-        Some(faces) => faces,
-        None => csm_model::face_unit_normals(model, conditions).map_err(|e| match e.kind() {
-            csm_model::ErrorKind::Geometry { id, source, .. } => {
-                Error::condition("unit normal", *id, source)
-            }
-            _ => Error::message_only(e.to_string()),
-        })?,
-    };
-    // Sums in the order of `conditions`; every node of a face is written once, so the order
-    // of the writes does not matter.
-    let (sums, count) = faces.nodal_sums(model);
-    faces.set_condition_normals(model);
+    // Summed into NORMAL itself, in the order of `conditions` (a node of none keeps its
+    // value); every node of a face is written once, so the order of the writes does not
+    // matter.
+    let mut count = vec![0u32; model.nodes().len()];
+    let summed = known.is_some_and(|kept| {
+        model.with_vector_mut(VectorVar::Normal, 0, |m, normals| {
+            kept.nodal_sums_into(m, conditions, (normals, &mut count))
+        }) == Some(true)
+    });
+    if !summed {
+        let faces =
+            csm_model::face_unit_normals(model, conditions).map_err(|e| match e.kind() {
+                csm_model::ErrorKind::Geometry { id, source, .. } => {
+                    Error::condition("unit normal", *id, source)
+                }
+                _ => Error::message_only(e.to_string()),
+            })?;
+        faces.set_condition_normals(model);
+        model.with_vector_mut(VectorVar::Normal, 0, |m, normals| {
+            faces.nodal_sums_into(m, normals, &mut count);
+        });
+    }
     if let Some(col) = model.nodal_data_mut().vector_mut(VectorVar::Normal, 0) {
-        for (i, v) in sums.into_iter().enumerate().filter(|&(i, _)| count[i] > 0) {
-            let norm = norm_kratos(&v);
-            col[i] = if norm > EPS { v / norm } else { v };
+        for (v, _) in col.iter_mut().zip(&count).filter(|&(_, &k)| k > 0) {
+            let norm = norm_kratos(v);
+            if norm > EPS {
+                *v /= norm;
+            }
         }
     }
     Ok(())
@@ -908,15 +920,11 @@ fn normal_gap_process_inner(
         }
     }
     // 2. Mean normals: origin (master side) first, destination (slave side) second.
-    // Both sides' faces from the kept table at once (one check, one position table).
-    let known = face_normals
-        .and_then(|kept| kept.subsets(model, [&s.master_conditions, &s.slave_conditions]));
-    let (master_faces, slave_faces) = match known {
-        Some([master, slave]) => (Some(master), Some(slave)),
-        None => (None, None),
-    };
-    mean_normals(model, &s.master_conditions, master_faces)?;
-    mean_normals(model, &s.slave_conditions, slave_faces)?;
+    // Both sides' faces from the kept table (one check, one position table).
+    let positions = face_normals.as_ref().and_then(|kept| kept.positions(model));
+    mean_normals(model, &s.master_conditions, positions.as_ref())?;
+    mean_normals(model, &s.slave_conditions, positions.as_ref())?;
+    drop(positions);
     // AUXILIAR_COORDINATES (after the mean normals, which do not read it: their scratch
     // memory is free again).
     let coords = model.nodes().coordinates();

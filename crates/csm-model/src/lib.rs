@@ -45,7 +45,7 @@ pub use model_part::{GeometryStamp, ModelPart};
 pub use nodal_data::{NodalData, ScalarVar, VectorVar};
 pub use nodal_h::{NodalHMode, assign_nodal_h, compute_nodal_h};
 pub use normals::{
-    FaceNormals, FaceNormalsRef, KeptFaceNormals, NormalsMode, UnitNormalsSnapshot,
+    FaceNormals, FaceNormalsRef, KeptFaceNormals, KeptPositions, NormalsMode, UnitNormalsSnapshot,
     compute_unit_normals, compute_unit_normals_reusing, compute_unit_normals_taking,
     face_unit_normals,
 };

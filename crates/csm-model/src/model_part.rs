@@ -10,7 +10,7 @@ use crate::error::{EntityKind, Error, ErrorKind};
 use crate::parts::{SubModelPart, merge_sorted};
 use crate::{
     ConditionId, ConditionIdx, ElementId, ElementIdx, Entities, IndexMap, NodalData, NodeId,
-    NodeIdx, Nodes, PartIdx, ProcessInfo, Properties, PropertiesId,
+    NodeIdx, Nodes, PartIdx, ProcessInfo, Properties, PropertiesId, VectorVar,
 };
 
 /// The root model part (Kratos `ModelPart`, e.g. `Structure`): dense storage of every
@@ -111,6 +111,22 @@ impl ModelPart {
     /// Nodal variables, mutable.
     pub fn nodal_data_mut(&mut self) -> &mut NodalData {
         &mut self.nodal_data
+    }
+
+    /// Calls `f` with the model and the values of the vector variable `var` at buffer step
+    /// `step` (by node index), to write them from what the rest of the model holds without
+    /// a copy. Meanwhile the model's own values of `var` at `step` are absent (`f` has them).
+    /// `None` (and `f` is not called) if the variable is absent or the step is not kept.
+    pub fn with_vector_mut<R>(
+        &mut self,
+        var: VectorVar,
+        step: usize,
+        f: impl FnOnce(&ModelPart, &mut [Vector]) -> R,
+    ) -> Option<R> {
+        let mut values = self.nodal_data.take_vector(var, step)?;
+        let result = f(self, &mut values);
+        self.nodal_data.put_vector(var, step, values);
+        Some(result)
     }
 
     /// The `INDEX_MAP` of condition `c`.

@@ -186,6 +186,22 @@ impl NodalData {
             .map(Vec::as_mut_slice)
     }
 
+    /// Takes the values of `var` at `step` out (leaving none), for
+    /// [`ModelPart::with_vector_mut`](crate::ModelPart::with_vector_mut), which puts them back.
+    pub(crate) fn take_vector(&mut self, var: VectorVar, step: usize) -> Option<Vec<Vector>> {
+        self.vectors
+            .get_mut(&var)?
+            .get_mut(step)
+            .map(std::mem::take)
+    }
+
+    /// Puts back what [`NodalData::take_vector`] took.
+    pub(crate) fn put_vector(&mut self, var: VectorVar, step: usize, values: Vec<Vector>) {
+        if let Some(column) = self.vectors.get_mut(&var).and_then(|c| c.get_mut(step)) {
+            *column = values;
+        }
+    }
+
     /// Advances the buffer of every historical variable (Kratos `CloneSolutionStep`): the
     /// previous step becomes a copy of the current one, and the current one keeps its values.
     pub fn clone_solution_step(&mut self) {

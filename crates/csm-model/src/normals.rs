@@ -19,7 +19,8 @@ use rayon::prelude::*;
 
 use crate::error::{EntityKind, Error, ErrorKind};
 use crate::{
-    ConditionIdx, Flag, GATHER_BLOCK, GatheredPoints, GeometryStamp, ModelPart, PartIdx, VectorVar,
+    ConditionIdx, Flag, GATHER_BLOCK, GatheredPoints, GeometryStamp, ModelPart, NodeIdx, PartIdx,
+    VectorVar,
 };
 
 /// How nodal normals are normalised.
@@ -129,14 +130,23 @@ impl FaceNormals {
     /// its own small slice of the sums (in parallel). Every node receives its faces' normals in
     /// face order, as a serial loop adds them.
     pub fn nodal_sums(&self, model: &ModelPart) -> (Vec<Vector>, Vec<u32>) {
+        let n_nodes = model.nodes().len();
+        let (mut sums, mut count) = (vec![Vector::zeros(); n_nodes], vec![0u32; n_nodes]);
+        self.nodal_sums_into(model, &mut sums, &mut count);
+        (sums, count)
+    }
+
+    /// [`FaceNormals::nodal_sums`] written into `sums` and `count` (by node index; `count`
+    /// zero on entry): a node of no face keeps its value in `sums`, the others' are replaced.
+    pub fn nodal_sums_into(&self, model: &ModelPart, sums: &mut [Vector], count: &mut [u32]) {
         // At most MAX_SUM_CHUNKS chunks: each has a start per node block, so that their
         // number times the blocks' stays small on a large mesh (any chunk size gives the
         // same sums).
         let faces = FACES_PER_TASK.max(self.conditions.len().div_ceil(MAX_SUM_CHUNKS));
-        self.nodal_sums_in_chunks(model, faces)
+        self.nodal_sums_in_chunks(model, faces, (sums, count));
     }
 
-    /// [`FaceNormals::nodal_sums`] with the contributions sorted by chunks of
+    /// [`FaceNormals::nodal_sums_into`] with the contributions sorted by chunks of
     /// `faces_per_chunk` faces (in parallel): each chunk sorts its own contributions by
     /// block, and each block then takes the chunks' contributions in chunk order — the face
     /// order.
@@ -144,18 +154,14 @@ impl FaceNormals {
         &self,
         model: &ModelPart,
         faces_per_chunk: usize,
-    ) -> (Vec<Vector>, Vec<u32>) {
+        (sums, count): (&mut [Vector], &mut [u32]),
+    ) {
         if self.centres.len() >= NODAL_ENTRY as usize || self.nodes.len() >= NODAL_ENTRY as usize {
-            return self.nodal_sums_serial(model);
+            return self.nodal_sums_serial_into(model, sums, count);
         }
-        let n_nodes = model.nodes().len();
-        let mut sums = vec![Vector::zeros(); n_nodes];
-        let mut count = vec![0u32; n_nodes];
         let conditions = model.conditions();
-        let block_of = |node: usize| node >> NODE_BLOCK_BITS;
-        let n_blocks = block_of(n_nodes) + 1;
-        // A contribution is (node, normal): the face's centre normal (uniform faces) or an
-        // entry of the nodal table, told apart by the top bit.
+        // A contribution's normal is the face's centre normal (uniform faces) or an entry of
+        // the nodal table, told apart by the top bit.
         let reference = |face: usize, k: usize| {
             if self.ends[face] == self.nodes_start(face) as u32 {
                 face as u32
@@ -163,37 +169,6 @@ impl FaceNormals {
                 (self.nodes_start(face) + k) as u32 | NODAL_ENTRY
             }
         };
-        let faces = faces_per_chunk.max(1);
-        let chunks: Vec<SortedChunk> = (0..self.conditions.len().div_ceil(faces))
-            .into_par_iter()
-            .map(|chunk| {
-                let range = chunk * faces..((chunk + 1) * faces).min(self.conditions.len());
-                let face_nodes = |f: usize| conditions.nodes(self.conditions[f].index());
-                // A counting pass, then the contributions placed in face order per block.
-                let mut start = vec![0usize; n_blocks + 1];
-                for f in range.clone() {
-                    for node in face_nodes(f) {
-                        start[block_of(node.index()) + 1] += 1;
-                    }
-                }
-                for b in 0..n_blocks {
-                    start[b + 1] += start[b];
-                }
-                let mut next = start.clone();
-                let mut contributions = vec![(0u32, 0u32); start[n_blocks]];
-                for f in range {
-                    for (k, node) in face_nodes(f).iter().enumerate() {
-                        let slot = &mut next[block_of(node.index())];
-                        contributions[*slot] = (node.get(), reference(f, k));
-                        *slot += 1;
-                    }
-                }
-                SortedChunk {
-                    start,
-                    contributions,
-                }
-            })
-            .collect();
         let normal = |r: u32| {
             if r & NODAL_ENTRY == 0 {
                 self.centres[r as usize]
@@ -201,20 +176,13 @@ impl FaceNormals {
                 self.nodes[(r & !NODAL_ENTRY) as usize]
             }
         };
-        sums.par_chunks_mut(1 << NODE_BLOCK_BITS)
-            .zip(count.par_chunks_mut(1 << NODE_BLOCK_BITS))
-            .enumerate()
-            .for_each(|(b, (sums, count))| {
-                let first = b << NODE_BLOCK_BITS;
-                for chunk in &chunks {
-                    for &(node, r) in &chunk.contributions[chunk.start[b]..chunk.start[b + 1]] {
-                        let i = node as usize - first;
-                        sums[i] += normal(r);
-                        count[i] += 1;
-                    }
-                }
-            });
-        (sums, count)
+        sums_by_node_blocks(
+            (sums, count),
+            self.conditions.len(),
+            |f| conditions.nodes(self.conditions[f].index()),
+            (reference, normal),
+            faces_per_chunk,
+        );
     }
 
     /// The start of face `face`'s nodal normals in `nodes` (the previous face's end).
@@ -226,16 +194,23 @@ impl FaceNormals {
     /// blocked sums reproduce; used for tables too large for their references).
     pub fn nodal_sums_serial(&self, model: &ModelPart) -> (Vec<Vector>, Vec<u32>) {
         let n_nodes = model.nodes().len();
-        let mut sums = vec![Vector::zeros(); n_nodes];
-        let mut count = vec![0u32; n_nodes];
+        let (mut sums, mut count) = (vec![Vector::zeros(); n_nodes], vec![0u32; n_nodes]);
+        self.nodal_sums_serial_into(model, &mut sums, &mut count);
+        (sums, count)
+    }
+
+    /// [`FaceNormals::nodal_sums_serial`] written as [`FaceNormals::nodal_sums_into`] writes.
+    fn nodal_sums_serial_into(&self, model: &ModelPart, sums: &mut [Vector], count: &mut [u32]) {
         for face in self.iter() {
             let nodes = model.conditions().nodes(face.condition.index());
             for (k, node) in nodes.iter().enumerate() {
-                sums[node.index()] += face.node(k);
-                count[node.index()] += 1;
+                add_first_zero(
+                    &mut sums[node.index()],
+                    &mut count[node.index()],
+                    face.node(k),
+                );
             }
         }
-        (sums, count)
     }
 
     /// This table without its centre normals, kept for a later use on the same coordinates
@@ -345,6 +320,23 @@ impl KeptFaceNormals {
             }) == self.fingerprint
     }
 
+    /// Where this table's faces are, to take lists of its faces without a check each
+    /// ([`KeptPositions`]); `None` when the condition normals no longer hold the table's
+    /// centre normals (as for [`subset`](Self::subset)).
+    pub fn positions(&self, model: &ModelPart) -> Option<KeptPositions<'_>> {
+        if !self.holds_centres(model.condition_normals()) {
+            return None;
+        }
+        let mut position = vec![ABSENT; model.conditions().len()];
+        for (i, c) in self.conditions.iter().enumerate() {
+            *position.get_mut(c.index())? = i as u32;
+        }
+        Some(KeptPositions {
+            table: self,
+            position,
+        })
+    }
+
     /// [`subset`](Self::subset) of each list of `lists`, with one check of the condition
     /// normals and one position table for all of them; `None` when one of them is `None`.
     pub fn subsets<const N: usize>(
@@ -352,41 +344,119 @@ impl KeptFaceNormals {
         model: &ModelPart,
         lists: [&[ConditionIdx]; N],
     ) -> Option<[FaceNormals; N]> {
-        const ABSENT: u32 = u32::MAX;
-        let centres = model.condition_normals();
-        if !self.holds_centres(centres) {
-            return None;
-        }
-        let mut position = vec![ABSENT; model.conditions().len()];
-        for (i, c) in self.conditions.iter().enumerate() {
-            *position.get_mut(c.index())? = i as u32;
-        }
-        let kinds = model.conditions();
-        let one = |conditions: &[ConditionIdx]| -> Option<FaceNormals> {
-            let mut table = FaceNormals::default();
-            table.conditions.reserve(conditions.len());
-            table.centres.reserve(conditions.len());
-            table.ends.reserve(conditions.len());
-            let mut end = 0u32;
-            for &c in conditions {
-                if !kinds.kind(c.index()).is_face() {
-                    continue;
-                }
-                let i = *position.get(c.index()).filter(|&&i| i != ABSENT)? as usize;
-                let nodes = &self.nodes[nodes_start(&self.ends, i)..self.ends[i] as usize];
-                table.conditions.push(c);
-                table.centres.push(centres[c.index()]);
-                table.nodes.extend_from_slice(nodes);
-                end += nodes.len() as u32;
-                table.ends.push(end);
-            }
-            Some(table)
-        };
-        let tables = lists.map(one);
+        let positions = self.positions(model)?;
+        let tables = lists.map(|conditions| positions.subset(model, conditions));
         if tables.iter().any(Option::is_none) {
             return None;
         }
         Some(tables.map(|t| t.unwrap_or_default()))
+    }
+}
+
+/// A condition's position in [`KeptPositions`] when it is not in the table.
+const ABSENT: u32 = u32::MAX;
+
+/// The position of every face of a [`KeptFaceNormals`] table, by condition index
+/// ([`KeptFaceNormals::positions`]), checked against the condition normals once.
+#[derive(Debug)]
+pub struct KeptPositions<'a> {
+    table: &'a KeptFaceNormals,
+    position: Vec<u32>,
+}
+
+impl KeptPositions<'_> {
+    /// The table position of condition `c`, if it is one of its faces.
+    fn of(&self, c: ConditionIdx) -> Option<usize> {
+        self.position
+            .get(c.index())
+            .filter(|&&i| i != ABSENT)
+            .map(|&i| i as usize)
+    }
+
+    /// [`KeptFaceNormals::subset`] of `conditions` (the checks done).
+    fn subset(&self, model: &ModelPart, conditions: &[ConditionIdx]) -> Option<FaceNormals> {
+        let (kinds, centres) = (model.conditions(), model.condition_normals());
+        let kept = self.table;
+        let mut table = FaceNormals::default();
+        table.conditions.reserve(conditions.len());
+        table.centres.reserve(conditions.len());
+        table.ends.reserve(conditions.len());
+        let mut end = 0u32;
+        for &c in conditions {
+            if !kinds.kind(c.index()).is_face() {
+                continue;
+            }
+            let i = self.of(c)?;
+            let nodes = &kept.nodes[nodes_start(&kept.ends, i)..kept.ends[i] as usize];
+            table.conditions.push(c);
+            table.centres.push(centres[c.index()]);
+            table.nodes.extend_from_slice(nodes);
+            end += nodes.len() as u32;
+            table.ends.push(end);
+        }
+        Some(table)
+    }
+
+    /// [`FaceNormals::nodal_sums_into`] of the [`subset`](KeptFaceNormals::subset) of
+    /// `conditions`, bit for bit, without building that table (its centre normals are the
+    /// condition normals: nothing to set either). False, with nothing written, when one of
+    /// the face conditions is not in the table.
+    pub fn nodal_sums_into(
+        &self,
+        model: &ModelPart,
+        conditions: &[ConditionIdx],
+        (sums, count): (&mut [Vector], &mut [u32]),
+    ) -> bool {
+        let (kinds, centres) = (model.conditions(), model.condition_normals());
+        let kept = self.table;
+        let is_face = |c: ConditionIdx| kinds.kind(c.index()).is_face();
+        if conditions
+            .iter()
+            .any(|&c| is_face(c) && self.of(c).is_none())
+        {
+            return false;
+        }
+        if centres.len() >= NODAL_ENTRY as usize || kept.nodes.len() >= NODAL_ENTRY as usize {
+            return self
+                .subset(model, conditions)
+                .map(|table| table.nodal_sums_into(model, sums, count))
+                .is_some();
+        }
+        // Other kinds have no normal: no nodes to add to.
+        let face_nodes = |f: usize| {
+            let c = conditions[f];
+            if is_face(c) {
+                kinds.nodes(c.index())
+            } else {
+                &[]
+            }
+        };
+        // A uniform face's normal is its condition normal (by condition index); a nodal
+        // one, an entry of the kept table.
+        let reference = |f: usize, k: usize| {
+            let c = conditions[f];
+            match self.of(c) {
+                Some(i) if kept.ends[i] as usize != nodes_start(&kept.ends, i) => {
+                    (nodes_start(&kept.ends, i) + k) as u32 | NODAL_ENTRY
+                }
+                _ => c.0,
+            }
+        };
+        let normal = |r: u32| {
+            if r & NODAL_ENTRY == 0 {
+                centres[r as usize]
+            } else {
+                kept.nodes[(r & !NODAL_ENTRY) as usize]
+            }
+        };
+        sums_by_node_blocks(
+            (sums, count),
+            conditions.len(),
+            face_nodes,
+            (reference, normal),
+            FACES_PER_TASK.max(conditions.len().div_ceil(MAX_SUM_CHUNKS)),
+        );
+        true
     }
 }
 
@@ -430,6 +500,77 @@ fn fingerprint(len: usize, normal: impl Fn(usize) -> Vector + Sync) -> u64 {
             })
         })
         .reduce(|| 0, u64::wrapping_add)
+}
+
+/// Adds `normal` to a node's sum `sum`, of which `count` normals were added before: the first
+/// one to zero (the sum's old value is not a sum of these faces).
+fn add_first_zero(sum: &mut Vector, count: &mut u32, normal: Vector) {
+    if *count == 0 {
+        *sum = Vector::zeros();
+    }
+    *sum += normal;
+    *count += 1;
+}
+
+/// Per node, the sum of the normals of its faces in face order (into `sums`, where a node of
+/// no face keeps its value) and the number of its faces (into `count`, zero on entry): the
+/// blocked, parallel sums of [`FaceNormals::nodal_sums`] over `n_faces` faces, face `f` with
+/// the nodes `face_nodes(f)`, its node `k` with the normal `normal(reference(f, k))` (a
+/// reference fits 32 bits, so the contributions stay small).
+fn sums_by_node_blocks<'a>(
+    (sums, count): (&mut [Vector], &mut [u32]),
+    n_faces: usize,
+    face_nodes: impl Fn(usize) -> &'a [NodeIdx] + Sync,
+    (reference, normal): (
+        impl Fn(usize, usize) -> u32 + Sync,
+        impl Fn(u32) -> Vector + Sync,
+    ),
+    faces_per_chunk: usize,
+) {
+    let block_of = |node: usize| node >> NODE_BLOCK_BITS;
+    let n_blocks = block_of(sums.len()) + 1;
+    let faces = faces_per_chunk.max(1);
+    let chunks: Vec<SortedChunk> = (0..n_faces.div_ceil(faces))
+        .into_par_iter()
+        .map(|chunk| {
+            let range = chunk * faces..((chunk + 1) * faces).min(n_faces);
+            // A counting pass, then the contributions placed in face order per block.
+            let mut start = vec![0usize; n_blocks + 1];
+            for f in range.clone() {
+                for node in face_nodes(f) {
+                    start[block_of(node.index()) + 1] += 1;
+                }
+            }
+            for b in 0..n_blocks {
+                start[b + 1] += start[b];
+            }
+            let mut next = start.clone();
+            let mut contributions = vec![(0u32, 0u32); start[n_blocks]];
+            for f in range {
+                for (k, node) in face_nodes(f).iter().enumerate() {
+                    let slot = &mut next[block_of(node.index())];
+                    contributions[*slot] = (node.get(), reference(f, k));
+                    *slot += 1;
+                }
+            }
+            SortedChunk {
+                start,
+                contributions,
+            }
+        })
+        .collect();
+    sums.par_chunks_mut(1 << NODE_BLOCK_BITS)
+        .zip(count.par_chunks_mut(1 << NODE_BLOCK_BITS))
+        .enumerate()
+        .for_each(|(b, (sums, count))| {
+            let first = b << NODE_BLOCK_BITS;
+            for chunk in &chunks {
+                for &(node, r) in &chunk.contributions[chunk.start[b]..chunk.start[b + 1]] {
+                    let i = node as usize - first;
+                    add_first_zero(&mut sums[i], &mut count[i], normal(r));
+                }
+            }
+        });
 }
 
 /// One chunk of faces' (node, normal) contributions of [`FaceNormals::nodal_sums`], sorted by

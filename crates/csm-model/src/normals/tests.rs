@@ -189,7 +189,8 @@ fn nodal_sums_are_the_serial_sums_for_any_thread_count() {
         assert_eq!(sums, serial, "{threads} threads");
         // Many chunks of faces, of sizes that do not divide the face count.
         for faces in [1, 7, 1000] {
-            let sums = pool.install(|| table.nodal_sums_in_chunks(&mp, faces));
+            let mut sums = (vec![Vector::zeros(); n * n], vec![0u32; n * n]);
+            pool.install(|| table.nodal_sums_in_chunks(&mp, faces, (&mut sums.0, &mut sums.1)));
             assert_eq!(sums, serial, "{threads} threads, chunks of {faces} faces");
         }
     }
@@ -227,11 +228,35 @@ fn a_subset_of_the_table_is_the_table_of_the_subset() {
         Some([table.clone(), fresh.clone()])
     );
     assert_eq!(kept.subset(&mp, &[]), Some(FaceNormals::default()));
+    // The nodal sums of a list, from the positions, are those of its table; nodes of no
+    // face keep what they had.
+    let positions = kept.positions(&mp).unwrap();
+    let n_nodes = mp.nodes().len();
+    for list in [&all, &some] {
+        let expected = face_unit_normals(&mp, list).unwrap().nodal_sums(&mp);
+        let mut sums = vec![Vector::new(7.0, -1.0, 0.5); n_nodes];
+        let mut count = vec![0u32; n_nodes];
+        assert!(positions.nodal_sums_into(&mp, list, (&mut sums, &mut count)));
+        assert_eq!(count, expected.1);
+        for i in 0..n_nodes {
+            let want = if count[i] > 0 {
+                expected.0[i]
+            } else {
+                Vector::new(7.0, -1.0, 0.5)
+            };
+            assert_eq!(sums[i], want, "node {i}");
+        }
+        assert_eq!(count.contains(&0), list.len() < all.len());
+    }
     // A face the kept table does not have.
     let part = face_unit_normals(&mp, &some).unwrap().keep();
     assert_eq!(part.subset(&mp, &all), None);
     assert_eq!(part.subsets(&mp, [&some, &all]), None);
     assert_eq!(part.subset(&mp, &some), Some(fresh));
+    let mut untouched = (vec![Vector::zeros(); n_nodes], vec![0u32; n_nodes]);
+    let part_positions = part.positions(&mp).unwrap();
+    assert!(!part_positions.nodal_sums_into(&mp, &all, (&mut untouched.0, &mut untouched.1)));
+    assert!(untouched.1.iter().all(|&k| k == 0));
     // Condition normals that are no longer the kept centre normals (one last bit) or that
     // the model no longer has.
     let c = some[1];
