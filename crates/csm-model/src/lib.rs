@@ -46,7 +46,7 @@ pub use nodal_data::{NodalData, ScalarVar, VectorVar};
 pub use nodal_h::{NodalHMode, assign_nodal_h, compute_nodal_h};
 pub use normals::{
     FaceNormals, FaceNormalsRef, KeptFaceNormals, KeptPositions, NormalsMode, UnitNormalsSnapshot,
-    compute_unit_normals, compute_unit_normals_reusing, compute_unit_normals_taking,
+    compute_unit_normals, compute_unit_normals_from_kept, compute_unit_normals_reusing,
     face_unit_normals,
 };
 pub use parts::SubModelPart;

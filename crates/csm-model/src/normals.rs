@@ -281,30 +281,6 @@ impl KeptFaceNormals {
         Some(table)
     }
 
-    /// [`current_subset`](Self::current_subset), taking this table: where `conditions` are
-    /// its own faces in its order, its lists become the table's (no copy).
-    pub fn into_current_subset(
-        self,
-        model: &ModelPart,
-        conditions: &[ConditionIdx],
-    ) -> Option<FaceNormals> {
-        if self.conditions != conditions {
-            return self.current_subset(model, conditions);
-        }
-        let centres = model.condition_normals();
-        if !self.is_current(model) || !self.holds_centres(centres) {
-            return None;
-        }
-        let centres = self.conditions.iter().map(|c| centres[c.index()]).collect();
-        Some(FaceNormals {
-            conditions: self.conditions,
-            centres,
-            ends: self.ends,
-            nodes: self.nodes,
-            stamp: self.stamp,
-        })
-    }
-
     /// Whether `model`'s geometry is the one the table was computed on (a table without a
     /// stamp never is).
     fn is_current(&self, model: &ModelPart) -> bool {
@@ -683,19 +659,6 @@ pub fn compute_unit_normals_reusing(
     })
 }
 
-/// [`compute_unit_normals_reusing`] that takes the kept table (its lists are moved into the
-/// table returned where they hold the same faces: [`KeptFaceNormals::into_current_subset`]).
-pub fn compute_unit_normals_taking(
-    model: &mut ModelPart,
-    part: Option<PartIdx>,
-    mode: NormalsMode,
-    known: Option<KeptFaceNormals>,
-) -> Result<FaceNormals, Error> {
-    unit_normals_with(model, part, mode, |model, conditions| {
-        known.and_then(|k| k.into_current_subset(model, conditions))
-    })
-}
-
 /// [`compute_unit_normals`] with the faces' own normals from `known(model, conditions)` where
 /// it has them.
 fn unit_normals_with(
@@ -706,19 +669,62 @@ fn unit_normals_with(
 ) -> Result<FaceNormals, Error> {
     let conditions = conditions_of(model, part);
     model.nodal_data_mut().add_vector(VectorVar::Normal);
-    let n_nodes = model.nodes().len();
     // The per-face normals in parallel; the sums in condition order, as Kratos' serial loop
-    // adds them (identical results for any thread count). `count`: how many faces a node
-    // has — Kratos normalises it that often (Q38).
+    // adds them (identical results for any thread count).
     let faces = match known(model, &conditions) {
         Some(faces) => faces,
         None => face_unit_normals(model, &conditions)?,
     };
-    let (mut nodal, count) = faces.nodal_sums(model);
-    // Normalise. Kratos' loop normalises node by node in condition order, a node once per
-    // adjacent face; no other node's value enters, so each node is normalised `count` times
-    // on its own, in parallel. Only the first normalisation can fail (afterwards the norm is
-    // about 1): the node reported is the first failing one in Kratos' order.
+    let sums = faces.nodal_sums(model);
+    let nodal = normalised(model, &conditions, mode, sums)?;
+    faces.set_condition_normals(model);
+    write_nodal_normals(model, &conditions, nodal);
+    Ok(faces)
+}
+
+/// [`compute_unit_normals`] from the faces' own normals in `known` (the kept table of an
+/// earlier [`compute_unit_normals`] of these faces or more), without building their table:
+/// where the model's geometry and condition normals have not changed since
+/// ([`KeptFaceNormals::current_subset`]) and the table has every face of the part, writes
+/// what [`compute_unit_normals`] writes (the condition normals hold the table's centre
+/// normals already, so `known` stays current) and returns true; false, with nothing done,
+/// otherwise.
+pub fn compute_unit_normals_from_kept(
+    model: &mut ModelPart,
+    part: Option<PartIdx>,
+    mode: NormalsMode,
+    known: &KeptFaceNormals,
+) -> Result<bool, Error> {
+    if !known.is_current(model) {
+        return Ok(false);
+    }
+    let Some(positions) = known.positions(model) else {
+        return Ok(false);
+    };
+    let conditions = conditions_of(model, part);
+    let n_nodes = model.nodes().len();
+    let mut sums = (vec![Vector::zeros(); n_nodes], vec![0u32; n_nodes]);
+    if !positions.nodal_sums_into(model, &conditions, (&mut sums.0, &mut sums.1)) {
+        return Ok(false);
+    }
+    model.nodal_data_mut().add_vector(VectorVar::Normal);
+    let nodal = normalised(model, &conditions, mode, sums)?;
+    write_nodal_normals(model, &conditions, nodal);
+    Ok(true)
+}
+
+/// The nodal normals from the sums of their faces' normals and the faces' count per node
+/// ([`FaceNormals::nodal_sums`]): normalised as Kratos' loop does — node by node in
+/// condition order, a node once per adjacent face (Q38; once in [`NormalsMode::Once`]). No
+/// other node's value enters, so each node is normalised on its own, in parallel. Only the
+/// first normalisation can fail (afterwards the norm is about 1): the node reported is the
+/// first failing one in Kratos' order (the face conditions of `conditions`, node by node).
+fn normalised(
+    model: &ModelPart,
+    conditions: &[ConditionIdx],
+    mode: NormalsMode,
+    (mut nodal, count): (Vec<Vector>, Vec<u32>),
+) -> Result<(Vec<Vector>, Vec<u32>), Error> {
     let times = |i: usize| match mode {
         NormalsMode::Kratos => count[i],
         NormalsMode::Once => count[i].min(1),
@@ -739,14 +745,16 @@ fn unit_normals_with(
         .filter(|&f| f)
         .count()
         > 0;
+    let kinds = model.conditions();
     let result = match (failed, mode) {
         (false, _) => Ok(()),
-        (true, NormalsMode::Kratos) => faces
+        (true, NormalsMode::Kratos) => conditions
             .iter()
-            .flat_map(|face| model.conditions().nodes(face.condition.index()))
+            .filter(|c| kinds.kind(c.index()).is_face())
+            .flat_map(|c| kinds.nodes(c.index()))
             .find(|n| nodal[n.index()].norm() <= EPS)
             .map_or(Ok(()), |n| Err(n.index())),
-        (true, NormalsMode::Once) => (0..n_nodes)
+        (true, NormalsMode::Once) => (0..nodal.len())
             .find(|&i| count[i] > 0 && nodal[i].norm() <= EPS)
             .map_or(Ok(()), Err),
     };
@@ -763,11 +771,19 @@ fn unit_normals_with(
         }
         .into());
     }
-    faces.set_condition_normals(model);
-    // Step 1 resets NORMAL on every node of the part's conditions; the face nodes then get
-    // their normalised sums.
+    Ok((nodal, count))
+}
+
+/// Writes the [`normalised`] nodal normals: step 1 resets NORMAL on every node of the
+/// conditions; the face nodes then get their normalised sums.
+fn write_nodal_normals(
+    model: &mut ModelPart,
+    conditions: &[ConditionIdx],
+    (nodal, count): (Vec<Vector>, Vec<u32>),
+) {
+    let n_nodes = model.nodes().len();
     let mut reset = vec![false; n_nodes];
-    for &c in &conditions {
+    for &c in conditions {
         for n in model.conditions().nodes(c.index()) {
             reset[n.index()] = true;
         }
@@ -781,7 +797,6 @@ fn unit_normals_with(
             };
         }
     }
-    Ok(faces)
 }
 
 /// The nodal `NORMAL`s that [`compute_unit_normals`] wrote on a part, kept to be written again

@@ -365,29 +365,32 @@ fn a_current_kept_table_gives_what_computing_gives() {
             .unwrap();
     assert_eq!(table, expected);
     assert!(same(&reused, &expected_model));
-    // Taken (a copy of it) by the unit normals of `part` of `mp`: the table and the model.
-    let take = |mp: &ModelPart, part: PartIdx| {
-        let mut taken = mp.clone();
-        let mode = NormalsMode::Kratos;
-        let table = compute_unit_normals_taking(&mut taken, Some(part), mode, Some(kept.clone()));
-        (table.unwrap(), taken)
+    // Without building the table (`from_kept`), for a part or all of its own faces: the
+    // model is the computed one (and the kept table stays current).
+    let from_kept = |mp: &ModelPart, part: PartIdx| {
+        let mut m = mp.clone();
+        let used = compute_unit_normals_from_kept(&mut m, Some(part), NormalsMode::Kratos, &kept);
+        (used.unwrap(), m)
     };
-    let (table, taken) = take(&mp, part);
-    assert_eq!(table, expected);
-    assert!(same(&taken, &expected_model));
-    // Taken for all of its own faces, its lists become the table's: the same results.
+    let (used, m) = from_kept(&mp, part);
+    assert!(used && same(&m, &expected_model));
+    assert!(kept.current_subset(&m, &some).is_some());
     let everything = mp.create_part("Everything").unwrap();
     mp.add_conditions_to_part(everything, &all_conditions(&mp));
     let fresh_of_all = |mp: &ModelPart| {
         let mut again = mp.clone();
-        let table =
-            compute_unit_normals(&mut again, Some(everything), NormalsMode::Kratos).unwrap();
-        (table, again)
+        compute_unit_normals(&mut again, Some(everything), NormalsMode::Kratos).unwrap();
+        again
     };
-    let (expected_all, expected_all_model) = fresh_of_all(&mp);
-    let (table, taken) = take(&mp, everything);
-    assert_eq!(table, expected_all);
-    assert!(same(&taken, &expected_all_model));
+    let (used, m) = from_kept(&mp, everything);
+    assert!(used && same(&m, &fresh_of_all(&mp)));
+    // A table without some of the part's faces is not used.
+    let half = compute_unit_normals(&mut mp.clone(), Some(part), NormalsMode::Kratos)
+        .unwrap()
+        .keep();
+    let mut m = mp.clone();
+    let used = compute_unit_normals_from_kept(&mut m, Some(everything), NormalsMode::Kratos, &half);
+    assert!(!used.unwrap() && same(&m, &mp));
     // After a change of the coordinates (a node moved, the table's values would be wrong),
     // of a condition's nodes, or of the condition normals (one flipped, two exchanged), it
     // is not used, and the results are those of a computation.
@@ -407,12 +410,10 @@ fn a_current_kept_table_gives_what_computing_gives() {
                 .unwrap();
         assert_eq!(table, expected);
         assert!(same(&moved, &expected_model));
-        // Taken, for its own faces: not used either.
+        // Nor without building the table: the model is left as it was.
         let mut changed = mp.clone();
         change(&mut changed);
-        let (expected, expected_model) = fresh_of_all(&changed);
-        let (table, taken) = take(&changed, everything);
-        assert_eq!(table, expected);
-        assert!(same(&taken, &expected_model));
+        let (used, m) = from_kept(&changed, everything);
+        assert!(!used && same(&m, &changed));
     }
 }

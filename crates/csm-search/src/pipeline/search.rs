@@ -9,7 +9,7 @@ use csm_geometry::{Geometry, Kdop18};
 use csm_model::{
     ConditionId, ConditionIdx, Flag, KeptFaceNormals, ModelPart, NodalHMode, NodeIdx, NormalsMode,
     PartIdx, ScalarVar, UnitNormalsSnapshot, VectorVar, assign_nodal_h, compute_unit_normals,
-    compute_unit_normals_reusing, compute_unit_normals_taking,
+    compute_unit_normals_from_kept,
 };
 use csm_trees::{Aabb, KdTree};
 use rayon::prelude::*;
@@ -78,8 +78,8 @@ pub struct ContactSearch {
     steps_run: u32,
     warnings: Vec<String>,
     /// The faces' unit normals of the normal check, until the first step's pairs compute
-    /// theirs from them (where the geometry has not changed since: [`KeptFaceNormals::
-    /// current_subset`]); dropped then.
+    /// theirs from them (where the geometry has not changed since:
+    /// [`csm_model::compute_unit_normals_from_kept`]); dropped then.
     initial_normals: Option<KeptFaceNormals>,
 }
 
@@ -861,15 +861,22 @@ fn update_mortar_conditions(
         Compatibility::Robust => NormalsMode::Once,
     };
     // The faces' own normals are kept for MappingCheck's mapping: nothing moves the nodes or
-    // changes the condition normals before it.
-    // The last pair to use the initial table takes it (its lists then need no copy).
-    let face_normals = if initial.last_user {
-        compute_unit_normals_taking(model, Some(sub), normals_mode, initial.table.take())
+    // changes the condition normals before it. From the normal check's table where it is
+    // still current (the last pair to use it takes it).
+    let mapping = p.check_gap == CheckGap::MappingCheck;
+    let from_initial = match initial.table.as_ref() {
+        Some(kept) => compute_unit_normals_from_kept(model, Some(sub), normals_mode, kept)
+            .map_err(model_error)?,
+        None => false,
+    };
+    let face_normals = if !from_initial {
+        let faces = compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
+        mapping.then(|| faces.keep())
+    } else if initial.last_user {
+        initial.table.take().filter(|_| mapping)
     } else {
-        compute_unit_normals_reusing(model, Some(sub), normals_mode, initial.table.as_ref())
-    }
-    .map_err(model_error)?;
-    let face_normals = (p.check_gap == CheckGap::MappingCheck).then(|| face_normals.keep());
+        initial.table.as_ref().filter(|_| mapping).cloned()
+    };
     crate::trace::mark("unit normals");
     // 3. The running id of created pairs: after the largest condition id of the root (the
     // paired conditions of earlier steps included).

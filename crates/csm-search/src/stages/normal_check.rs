@@ -98,7 +98,7 @@ pub fn normal_check(
 }
 
 /// [`normal_check`], also returning the faces' unit normals it computed last (on the final
-/// coordinates and node orders: [`csm_model::compute_unit_normals_reusing`] takes them from
+/// coordinates and node orders: [`csm_model::compute_unit_normals_from_kept`] takes them from
 /// there while the geometry does not change).
 pub fn normal_check_with_normals(
     model: &mut ModelPart,
