@@ -225,10 +225,11 @@ pub(crate) fn make_face<'a>(
 /// normal at its own local coordinates, then one normalisation (norm > eps).
 /// `known`: the kept table of these faces' unit normals on the current coordinates, where the
 /// caller has it ([`KeptFaceNormals::positions`]: its centre normals are the condition
-/// normals already); computed here otherwise.
+/// normals already); computed here otherwise. With `known`, `wanted` (by node index) can
+/// limit the nodes written to those it marks ([`normals_read`]).
 pub(crate) fn mean_normals(
     model: &mut ModelPart,
-    conditions: &[ConditionIdx],
+    (conditions, wanted): (&[ConditionIdx], Option<&[bool]>),
     known: Option<&KeptPositions<'_>>,
 ) -> Result<(), Error> {
     model.nodal_data_mut().add_vector(VectorVar::Normal);
@@ -238,7 +239,7 @@ pub(crate) fn mean_normals(
     let mut count = vec![0u32; model.nodes().len()];
     let summed = known.is_some_and(|kept| {
         model.with_vector_mut(VectorVar::Normal, 0, |m, normals| {
-            kept.nodal_sums_into(m, conditions, (normals, &mut count))
+            kept.nodal_sums_into(m, (conditions, wanted), (normals, &mut count))
         }) == Some(true)
     });
     if !summed {
@@ -263,6 +264,33 @@ pub(crate) fn mean_normals(
         }
     }
     Ok(())
+}
+
+/// By node index, the nodes whose NORMAL the mapping reads: those of the slave conditions
+/// with an INDEX_MAP entry (their Gauss points' normals; ComputeNormalGap reads only nodes
+/// that a kept pair maps to) and of the master conditions these entries name (their face
+/// data carries nodal normals too, which no 3D computation reads today: cheap insurance).
+pub(crate) fn normals_read(model: &ModelPart, s: &Sides) -> Vec<bool> {
+    let mut read = vec![false; model.nodes().len()];
+    let conditions = model.conditions();
+    let mut mark = |c: usize| {
+        for n in conditions.nodes(c) {
+            read[n.index()] = true;
+        }
+    };
+    for &sc in &s.slave_conditions {
+        let map = model.index_map(sc);
+        if map.is_empty() {
+            continue;
+        }
+        mark(sc.index());
+        for (master, _) in map.iter() {
+            if let Some(mc) = conditions.index_of(master.get()) {
+                mark(mc);
+            }
+        }
+    }
+    read
 }
 
 /// Slave conditions per parallel task of the segmentation.
@@ -880,7 +908,9 @@ pub fn normal_gap_process(
 /// step in which the coordinates do not move before the weighted gap: `unit_normals` (by node
 /// index) are the nodal `NORMAL` the weighted gap will read (the unit normals the caller
 /// writes back after the mapping). Face pairs only (3D); the weighted gap computes the others.
-/// `face_normals` as for [`normal_gap_process`].
+/// `face_normals` as for [`normal_gap_process`]; with them, the mean normals are written only
+/// on the nodes whose NORMAL the mapping reads (the others keep theirs, which the caller
+/// overwrites anyway).
 pub fn normal_gap_process_keeping(
     model: &mut ModelPart,
     sub: PartIdx,
@@ -922,8 +952,12 @@ fn normal_gap_process_inner(
     // 2. Mean normals: origin (master side) first, destination (slave side) second.
     // Both sides' faces from the kept table (one check, one position table).
     let positions = face_normals.as_ref().and_then(|kept| kept.positions(model));
-    mean_normals(model, &s.master_conditions, positions.as_ref())?;
-    mean_normals(model, &s.slave_conditions, positions.as_ref())?;
+    // The caller of the weighted-gap variant writes its unit normals back after the mapping:
+    // only the mean normals the mapping reads are needed there.
+    let wanted = weighted_gap.map(|_| normals_read(model, &s));
+    let wanted = wanted.as_deref();
+    mean_normals(model, (&s.master_conditions, wanted), positions.as_ref())?;
+    mean_normals(model, (&s.slave_conditions, wanted), positions.as_ref())?;
     drop(positions);
     // AUXILIAR_COORDINATES (after the mean normals, which do not read it: their scratch
     // memory is free again).

@@ -15,8 +15,8 @@ use crate::mapping::{face_data, make_face, mean_normals, sides};
 /// Errors: a face whose unit normal cannot be computed (degenerate geometry).
 pub fn mapping_normals(model: &mut ModelPart, sub: PartIdx, inverted: bool) -> Result<(), Error> {
     let s = sides(model, sub, inverted);
-    mean_normals(model, &s.master_conditions, None)?;
-    mean_normals(model, &s.slave_conditions, None)
+    mean_normals(model, (&s.master_conditions, None), None)?;
+    mean_normals(model, (&s.slave_conditions, None), None)
 }
 
 /// The overlap measure (area in 3D, length in 2D) of the exact mortar segmentation of

@@ -6,6 +6,7 @@ use csm_model::{
 };
 
 use super::*;
+use crate::mapping::{normals_read, sides};
 
 /// A unit slave square at z = 0 (normal +z, condition 1) and two master squares at z = gap
 /// (normal −z): condition 2 over the slave (shifted by 0.25 in x), condition 3 far away.
@@ -696,12 +697,17 @@ fn grid_scene(n: usize, (pitch, shift, gap): (f64, f64, f64)) -> (ModelPart, Par
 /// The state the mapping leaves, bit for bit: NORMAL_GAP, NODAL_AREA, AUXILIAR_COORDINATES,
 /// NORMAL, and the INDEX_MAPs.
 fn mapped_bits(m: &ModelPart) -> Vec<u64> {
+    mapped_bits_of(m, &[VectorVar::AuxiliarCoordinates, VectorVar::Normal])
+}
+
+/// [`mapped_bits`] with the vector variables `vectors`.
+fn mapped_bits_of(m: &ModelPart, vectors: &[VectorVar]) -> Vec<u64> {
     let data = m.nodal_data();
     let mut bits = Vec::new();
     for v in [ScalarVar::NormalGap, ScalarVar::NodalArea] {
         bits.extend(data.scalar(v, 0).unwrap().iter().map(|x| x.to_bits()));
     }
-    for v in [VectorVar::AuxiliarCoordinates, VectorVar::Normal] {
+    for &v in vectors {
         for x in data.vector(v, 0).unwrap() {
             bits.extend(x.iter().map(|c| c.to_bits()));
         }
@@ -712,6 +718,70 @@ fn mapped_bits(m: &ModelPart) -> Vec<u64> {
         bits.push(u64::MAX);
     }
     bits
+}
+
+/// The weighted-gap variant with the step's kept face normals writes the mean normals only
+/// where the mapping reads them (its caller writes its unit normals back after it): every
+/// result is the full mapping's, bit for bit, NORMAL included on the nodes read; the others
+/// keep the unit normals they had. Inverted and not, on grids that overlap widely, at a
+/// corner, and not at all.
+#[test]
+fn the_keeping_mapping_writes_only_the_mean_normals_it_reads() {
+    let normal_bits = |m: &ModelPart| -> Vec<[u64; 3]> {
+        let col = m.nodal_data().vector(VectorVar::Normal, 0).unwrap();
+        col.iter()
+            .map(|v| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()])
+            .collect()
+    };
+    let mut skipped = 0;
+    for layout in [(0.83, -0.2, 0.01), (0.5, 6.9, 0.01), (0.9, 40.0, 0.01)] {
+        let (base, sub) = grid_scene(7, layout);
+        for inverted in [false, true] {
+            let settings = MappingSettings {
+                inverted,
+                ..settings()
+            };
+            let mut lean = base.clone();
+            let kept = compute_unit_normals(&mut lean, Some(sub), csm_model::NormalsMode::Kratos)
+                .unwrap()
+                .keep();
+            let unit_normals = lean
+                .nodal_data()
+                .vector(VectorVar::Normal, 0)
+                .unwrap()
+                .to_vec();
+            let before = normal_bits(&lean);
+            let read = normals_read(&lean, &sides(&lean, sub, inverted));
+            let mut full = lean.clone();
+            let a =
+                normal_gap_process_keeping(&mut lean, sub, &settings, Some(kept), &unit_normals)
+                    .unwrap();
+            let b =
+                normal_gap_process_keeping(&mut full, sub, &settings, None, &unit_normals).unwrap();
+            let what = format!("layout {layout:?}, inverted {inverted}");
+            assert_eq!(a.0, b.0, "{what}");
+            assert_eq!(
+                format!("{:?}", a.1.entries()),
+                format!("{:?}", b.1.entries())
+            );
+            let others = [VectorVar::AuxiliarCoordinates];
+            assert!(
+                mapped_bits_of(&lean, &others) == mapped_bits_of(&full, &others),
+                "{what}"
+            );
+            let (lean, full) = (normal_bits(&lean), normal_bits(&full));
+            for i in 0..read.len() {
+                if read[i] {
+                    assert_eq!(lean[i], full[i], "{what}: node {i}");
+                } else {
+                    assert_eq!(lean[i], before[i], "{what}: node {i}");
+                    skipped += usize::from(full[i] != before[i]);
+                }
+            }
+        }
+    }
+    // The full mapping wrote mean normals the lean one left out.
+    assert!(skipped > 20, "{skipped}");
 }
 
 /// The mapping that follows the segmentation with its first two iterations (keeping no

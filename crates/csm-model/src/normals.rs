@@ -178,7 +178,7 @@ impl FaceNormals {
         };
         sums_by_node_blocks(
             (sums, count),
-            self.conditions.len(),
+            (self.conditions.len(), None),
             |f| conditions.nodes(self.conditions[f].index()),
             (reference, normal),
             faces_per_chunk,
@@ -376,11 +376,12 @@ impl KeptPositions<'_> {
     /// [`FaceNormals::nodal_sums_into`] of the [`subset`](KeptFaceNormals::subset) of
     /// `conditions`, bit for bit, without building that table (its centre normals are the
     /// condition normals: nothing to set either). False, with nothing written, when one of
-    /// the face conditions is not in the table.
+    /// the face conditions is not in the table. With `wanted`, the nodes it marks (by node
+    /// index) at least, each with all its faces (others may be left out).
     pub fn nodal_sums_into(
         &self,
         model: &ModelPart,
-        conditions: &[ConditionIdx],
+        (conditions, wanted): (&[ConditionIdx], Option<&[bool]>),
         (sums, count): (&mut [Vector], &mut [u32]),
     ) -> bool {
         let (kinds, centres) = (model.conditions(), model.condition_normals());
@@ -427,7 +428,7 @@ impl KeptPositions<'_> {
         };
         sums_by_node_blocks(
             (sums, count),
-            conditions.len(),
+            (conditions.len(), wanted),
             face_nodes,
             (reference, normal),
             FACES_PER_TASK.max(conditions.len().div_ceil(MAX_SUM_CHUNKS)),
@@ -492,10 +493,11 @@ fn add_first_zero(sum: &mut Vector, count: &mut u32, normal: Vector) {
 /// no face keeps its value) and the number of its faces (into `count`, zero on entry): the
 /// blocked, parallel sums of [`FaceNormals::nodal_sums`] over `n_faces` faces, face `f` with
 /// the nodes `face_nodes(f)`, its node `k` with the normal `normal(reference(f, k))` (a
-/// reference fits 32 bits, so the contributions stay small).
+/// reference fits 32 bits, so the contributions stay small). With `wanted`, only the nodes
+/// it marks (by node index) are summed and counted.
 fn sums_by_node_blocks<'a>(
     (sums, count): (&mut [Vector], &mut [u32]),
-    n_faces: usize,
+    (n_faces, wanted): (usize, Option<&[bool]>),
     face_nodes: impl Fn(usize) -> &'a [NodeIdx] + Sync,
     (reference, normal): (
         impl Fn(usize, usize) -> u32 + Sync,
@@ -512,8 +514,9 @@ fn sums_by_node_blocks<'a>(
             let range = chunk * faces..((chunk + 1) * faces).min(n_faces);
             // A counting pass, then the contributions placed in face order per block.
             let mut start = vec![0usize; n_blocks + 1];
+            let is_wanted = |node: &NodeIdx| wanted.is_none_or(|w| w[node.index()]);
             for f in range.clone() {
-                for node in face_nodes(f) {
+                for node in face_nodes(f).iter().filter(|n| is_wanted(n)) {
                     start[block_of(node.index()) + 1] += 1;
                 }
             }
@@ -524,6 +527,9 @@ fn sums_by_node_blocks<'a>(
             let mut contributions = vec![(0u32, 0u32); start[n_blocks]];
             for f in range {
                 for (k, node) in face_nodes(f).iter().enumerate() {
+                    if !is_wanted(node) {
+                        continue;
+                    }
                     let slot = &mut next[block_of(node.index())];
                     contributions[*slot] = (node.get(), reference(f, k));
                     *slot += 1;
@@ -704,7 +710,7 @@ pub fn compute_unit_normals_from_kept(
     let conditions = conditions_of(model, part);
     let n_nodes = model.nodes().len();
     let mut sums = (vec![Vector::zeros(); n_nodes], vec![0u32; n_nodes]);
-    if !positions.nodal_sums_into(model, &conditions, (&mut sums.0, &mut sums.1)) {
+    if !positions.nodal_sums_into(model, (&conditions, None), (&mut sums.0, &mut sums.1)) {
         return Ok(false);
     }
     model.nodal_data_mut().add_vector(VectorVar::Normal);

@@ -236,7 +236,7 @@ fn a_subset_of_the_table_is_the_table_of_the_subset() {
         let expected = face_unit_normals(&mp, list).unwrap().nodal_sums(&mp);
         let mut sums = vec![Vector::new(7.0, -1.0, 0.5); n_nodes];
         let mut count = vec![0u32; n_nodes];
-        assert!(positions.nodal_sums_into(&mp, list, (&mut sums, &mut count)));
+        assert!(positions.nodal_sums_into(&mp, (list, None), (&mut sums, &mut count)));
         assert_eq!(count, expected.1);
         for i in 0..n_nodes {
             let want = if count[i] > 0 {
@@ -248,6 +248,23 @@ fn a_subset_of_the_table_is_the_table_of_the_subset() {
         }
         assert_eq!(count.contains(&0), list.len() < all.len());
     }
+    // Only the wanted nodes: theirs as from the whole list, every other untouched.
+    let wanted: Vec<bool> = (0..n_nodes).map(|i| i % 3 == 1).collect();
+    let expected = face_unit_normals(&mp, &some).unwrap().nodal_sums(&mp);
+    let mut sums = vec![Vector::new(7.0, -1.0, 0.5); n_nodes];
+    let mut count = vec![0u32; n_nodes];
+    assert!(positions.nodal_sums_into(&mp, (&some, Some(&wanted)), (&mut sums, &mut count)));
+    for i in 0..n_nodes {
+        let k = if wanted[i] { expected.1[i] } else { 0 };
+        assert_eq!(count[i], k, "node {i}");
+        let want = if k > 0 {
+            expected.0[i]
+        } else {
+            Vector::new(7.0, -1.0, 0.5)
+        };
+        assert_eq!(sums[i], want, "node {i}");
+    }
+    assert!((0..n_nodes).any(|i| wanted[i] && count[i] > 0));
     // A face the kept table does not have.
     let part = face_unit_normals(&mp, &some).unwrap().keep();
     assert_eq!(part.subset(&mp, &all), None);
@@ -255,7 +272,11 @@ fn a_subset_of_the_table_is_the_table_of_the_subset() {
     assert_eq!(part.subset(&mp, &some), Some(fresh));
     let mut untouched = (vec![Vector::zeros(); n_nodes], vec![0u32; n_nodes]);
     let part_positions = part.positions(&mp).unwrap();
-    assert!(!part_positions.nodal_sums_into(&mp, &all, (&mut untouched.0, &mut untouched.1)));
+    assert!(!part_positions.nodal_sums_into(
+        &mp,
+        (&all, None),
+        (&mut untouched.0, &mut untouched.1)
+    ));
     assert!(untouched.1.iter().all(|&k| k == 0));
     // Condition normals that are no longer the kept centre normals (one last bit) or that
     // the model no longer has.
