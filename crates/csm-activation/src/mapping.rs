@@ -243,7 +243,7 @@ pub(crate) fn mean_normals(
         }) == Some(true)
     });
     if !summed {
-        let faces =
+        let mut faces =
             csm_model::face_unit_normals(model, conditions).map_err(|e| match e.kind() {
                 csm_model::ErrorKind::Geometry { id, source, .. } => {
                     Error::condition("unit normal", *id, source)

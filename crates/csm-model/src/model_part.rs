@@ -29,6 +29,9 @@ pub struct ModelPart {
     nodal_data: NodalData,
     index_maps: Vec<IndexMap>,
     condition_normals: Vec<Vector>,
+    /// Renewed ([`crate::entities::fresh_stamp`]) by every access that can change the
+    /// condition normals ([`ModelPart::condition_normals_mut`]); 0 before the first.
+    condition_normals_stamp: u64,
 }
 
 /// [`ModelPart::geometry_stamp`]: equal stamps, equal node coordinates and condition
@@ -147,7 +150,16 @@ impl ModelPart {
 
     /// Mutable form of [`ModelPart::condition_normals`].
     pub fn condition_normals_mut(&mut self) -> &mut [Vector] {
+        self.condition_normals_stamp = crate::entities::fresh_stamp();
         &mut self.condition_normals
+    }
+
+    /// A value that changes with every access that can change the condition normals
+    /// ([`ModelPart::condition_normals_mut`]; conditions added keep it: their normals are
+    /// appended, the others stay) and that no other model has (a clone shares it until one
+    /// of them changes); 0 before the first.
+    pub(crate) fn condition_normals_stamp(&self) -> u64 {
+        self.condition_normals_stamp
     }
 
     /// Room for `additional` more nodes (a hint for readers that know how many will come:

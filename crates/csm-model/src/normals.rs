@@ -64,6 +64,10 @@ pub struct FaceNormals {
     nodes: Vec<Vector>,
     /// The model's geometry when the normals were computed ([`KeptFaceNormals::current_subset`]).
     stamp: GeometryStamp,
+    /// The model's condition-normals stamp right after [`FaceNormals::set_condition_normals`]
+    /// wrote these centre normals (0 before): while it is the same, the condition normals
+    /// hold them ([`KeptFaceNormals::positions`]).
+    normals_stamp: u64,
 }
 
 impl PartialEq for FaceNormals {
@@ -224,16 +228,18 @@ impl FaceNormals {
             conditions: self.conditions,
             ends: self.ends,
             nodes: self.nodes,
+            normals_stamp: self.normals_stamp,
         }
     }
 
     /// Sets every face's condition normal ([`ModelPart::condition_normals`]) to its centre
     /// normal.
-    pub fn set_condition_normals(&self, model: &mut ModelPart) {
+    pub fn set_condition_normals(&mut self, model: &mut ModelPart) {
         let condition_normals = model.condition_normals_mut();
         for face in self.iter() {
             condition_normals[face.condition.index()] = face.centre;
         }
+        self.normals_stamp = model.condition_normals_stamp();
     }
 }
 
@@ -249,6 +255,8 @@ pub struct KeptFaceNormals {
     /// The model's geometry when the normals were computed ([`KeptFaceNormals::
     /// current_subset`]).
     stamp: GeometryStamp,
+    /// [`FaceNormals`]' condition-normals stamp.
+    normals_stamp: u64,
 }
 
 impl KeptFaceNormals {
@@ -287,9 +295,14 @@ impl KeptFaceNormals {
         self.stamp != GeometryStamp::default() && self.stamp == model.geometry_stamp()
     }
 
-    /// Whether the condition normals `centres` hold this table's centre normals (every
-    /// condition has one, and their fingerprint is the table's).
-    fn holds_centres(&self, centres: &[Vector]) -> bool {
+    /// Whether the model's condition normals hold this table's centre normals: nothing
+    /// wrote them since this table set them, or else every condition has one and their
+    /// fingerprint is the table's.
+    fn holds_centres(&self, model: &ModelPart) -> bool {
+        if self.normals_stamp != 0 && self.normals_stamp == model.condition_normals_stamp() {
+            return true;
+        }
+        let centres = model.condition_normals();
         self.conditions.iter().all(|c| c.index() < centres.len())
             && fingerprint(self.conditions.len(), |i| {
                 centres[self.conditions[i].index()]
@@ -300,13 +313,27 @@ impl KeptFaceNormals {
     /// ([`KeptPositions`]); `None` when the condition normals no longer hold the table's
     /// centre normals (as for [`subset`](Self::subset)).
     pub fn positions(&self, model: &ModelPart) -> Option<KeptPositions<'_>> {
-        if !self.holds_centres(model.condition_normals()) {
+        if !self.holds_centres(model) {
             return None;
         }
-        let mut position = vec![ABSENT; model.conditions().len()];
-        for (i, c) in self.conditions.iter().enumerate() {
-            *position.get_mut(c.index())? = i as u32;
-        }
+        // A table of every condition in index order (the normal check's) is its own
+        // position table.
+        let n = model.conditions().len();
+        let every = self.conditions.len() == n
+            && self
+                .conditions
+                .iter()
+                .enumerate()
+                .all(|(i, c)| c.index() == i);
+        let position = if every {
+            None
+        } else {
+            let mut position = vec![ABSENT; n];
+            for (i, c) in self.conditions.iter().enumerate() {
+                *position.get_mut(c.index())? = i as u32;
+            }
+            Some(position)
+        };
         Some(KeptPositions {
             table: self,
             position,
@@ -337,16 +364,20 @@ const ABSENT: u32 = u32::MAX;
 #[derive(Debug)]
 pub struct KeptPositions<'a> {
     table: &'a KeptFaceNormals,
-    position: Vec<u32>,
+    /// By condition index; `None` where the table holds every condition in index order.
+    position: Option<Vec<u32>>,
 }
 
 impl KeptPositions<'_> {
     /// The table position of condition `c`, if it is one of its faces.
     fn of(&self, c: ConditionIdx) -> Option<usize> {
-        self.position
-            .get(c.index())
-            .filter(|&&i| i != ABSENT)
-            .map(|&i| i as usize)
+        match &self.position {
+            None => (c.index() < self.table.conditions.len()).then_some(c.index()),
+            Some(position) => position
+                .get(c.index())
+                .filter(|&&i| i != ABSENT)
+                .map(|&i| i as usize),
+        }
     }
 
     /// [`KeptFaceNormals::subset`] of `conditions` (the checks done).
@@ -634,6 +665,7 @@ pub fn face_unit_normals(
         ends,
         nodes,
         stamp: model.geometry_stamp(),
+        normals_stamp: 0,
     })
 }
 
@@ -677,7 +709,7 @@ fn unit_normals_with(
     model.nodal_data_mut().add_vector(VectorVar::Normal);
     // The per-face normals in parallel; the sums in condition order, as Kratos' serial loop
     // adds them (identical results for any thread count).
-    let faces = match known(model, &conditions) {
+    let mut faces = match known(model, &conditions) {
         Some(faces) => faces,
         None => face_unit_normals(model, &conditions)?,
     };
