@@ -1,6 +1,6 @@
 //! Unit tests of the `obb` module.
 use crate::math::{Point, Vector};
-use crate::{ErrorKind, Geometry, GeometryKind, Obb, Obb2};
+use crate::{Error, ErrorKind, Geometry, GeometryKind, Obb, Obb2};
 
 #[track_caller]
 fn close_v(a: &Vector, b: [f64; 3], tol: f64) {
@@ -99,6 +99,74 @@ fn zero_extent_is_the_kratos_zero_norm_error() {
     assert_eq!(
         *Obb::from_geometry(&g, f64::NAN, true).unwrap_err().kind(),
         ErrorKind::NonFinite
+    );
+}
+
+/// [`Obb::check_build_from_aabb`] fails exactly where [`Obb::build_from_aabb`] fails, with the
+/// same error: random triangles and quadrilaterals over many scales, with nodes coincident,
+/// on a line, a diagonal at the ε threshold, and non-finite enlargements.
+#[test]
+fn the_aabb_box_check_fails_where_the_build_fails() {
+    let mut state = 0x2545_F491_4F6C_DD1Du64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (mut failures, mut builds) = (0, 0);
+    for case in 0..4000 {
+        let scale = 10f64.powi((case % 40) - 20);
+        let n = if case % 2 == 0 { 3 } else { 4 };
+        let mut pts: Vec<Point> = (0..n)
+            .map(|_| Point::new(next() * scale, next() * scale, next() * scale))
+            .collect();
+        match case % 5 {
+            // All nodes at one point.
+            1 => {
+                let p0 = pts[0];
+                pts.iter_mut().for_each(|p| *p = p0);
+            }
+            // Spread along one axis by about ε.
+            2 => {
+                let p0 = pts[0];
+                for (k, p) in pts.iter_mut().enumerate() {
+                    *p = p0 + Vector::new(k as f64 * 0.5 * f64::EPSILON, 0.0, 0.0);
+                }
+            }
+            // On a line.
+            3 => {
+                let (p0, d) = (pts[0], pts[1] - pts[0]);
+                for (k, p) in pts.iter_mut().enumerate() {
+                    *p = p0 + d * k as f64;
+                }
+            }
+            _ => {}
+        }
+        let kind = if n == 3 {
+            GeometryKind::Triangle3D3
+        } else {
+            GeometryKind::Quadrilateral3D4
+        };
+        let g = Geometry::new(kind, &pts).unwrap();
+        for enlargement in [0.0, 0.1 * scale, f64::NAN, f64::INFINITY] {
+            let built = Obb::build_from_aabb(&g, enlargement).map(|_| ());
+            let checked = Obb::check_build_from_aabb(&g, enlargement);
+            assert_eq!(
+                built.as_ref().map_err(Error::kind),
+                checked.as_ref().map_err(Error::kind),
+                "case {case}, enlargement {enlargement}: {pts:?}"
+            );
+            if built.is_err() {
+                failures += 1;
+            } else {
+                builds += 1;
+            }
+        }
+    }
+    assert!(
+        failures > 2000 && builds > 4000,
+        "{failures} failures, {builds} builds"
     );
 }
 

@@ -47,6 +47,22 @@ impl Bv {
         }
     }
 
+    /// [`Bv::build`]'s errors without the box where they can be told apart cheaply
+    /// (Kratos' 3D box on the AABB diagonal: [`Obb::check_build_from_aabb`]); `None` where
+    /// only building tells.
+    pub(crate) fn check(
+        geometry: &Geometry<'_>,
+        dim: usize,
+        enlargement: Real,
+        params: &SearchParameters,
+        compatibility: Compatibility,
+    ) -> Option<Result<(), csm_geometry::Error>> {
+        let robust = compatibility == Compatibility::Robust && !geometry.kind().is_solid();
+        let from_aabb = params.octree.build_from_bounding_box || geometry.kind().is_solid();
+        (dim != 2 && !robust && from_aabb)
+            .then(|| Obb::check_build_from_aabb(geometry, enlargement))
+    }
+
     fn intersects(&self, other: &Bv, mode: SatMode) -> bool {
         match (self, other) {
             (Bv::D2(a), Bv::D2(b)) => a.intersects(b, ObbIntersection::Sat, mode),
@@ -227,15 +243,25 @@ pub(crate) fn slave_candidates(
     let geometry = Geometry::new(kind, points).map_err(|e| geometry_error(model, s, &e))?;
     let p = cx.params;
     // Q12: the slave box is always built, even without OBB filtering, and fails on a
-    // zero-extent bounding box.
-    let slave_bv = Bv::build(
-        &geometry,
-        cx.dim,
-        cx.bbf,
-        p.octree.build_from_bounding_box,
-        cx.compatibility,
-    )
-    .map_err(|e| geometry_error(model, s, &e))?;
+    // zero-extent bounding box: that failure here, the box itself only for a slave with
+    // candidates to test ([`Bv::check`]).
+    let build_slave_bv = || {
+        Bv::build(
+            &geometry,
+            cx.dim,
+            cx.bbf,
+            p.octree.build_from_bounding_box,
+            cx.compatibility,
+        )
+        .map_err(|e| geometry_error(model, s, &e))
+    };
+    let mut slave_bv = match Bv::check(&geometry, cx.dim, cx.bbf, p, cx.compatibility) {
+        Some(checked) => {
+            checked.map_err(|e| geometry_error(model, s, &e))?;
+            None
+        }
+        None => Some(build_slave_bv()?),
+    };
     let mut query_radius = 0.0;
     let tree_error = |e: csm_trees::Error| {
         Error::from(ErrorKind::Geometry {
@@ -337,6 +363,10 @@ pub(crate) fn slave_candidates(
                 Some(Ok(bv)) => bv,
                 Some(Err(e)) => return Err(geometry_error(model, master, e)),
                 None => continue,
+            };
+            let slave_bv = match &mut slave_bv {
+                Some(built) => &*built,
+                empty => empty.insert(build_slave_bv()?),
             };
             if !slave_bv.intersects(bv, mode) {
                 continue;
