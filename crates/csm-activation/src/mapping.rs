@@ -955,12 +955,14 @@ fn normal_gap_process_inner(
     // The caller of the weighted-gap variant writes its unit normals back after the mapping:
     // only the mean normals the mapping reads are needed there.
     let wanted = weighted_gap.map(|_| normals_read(model, &s));
-    let wanted = wanted.as_deref();
-    mean_normals(model, (&s.master_conditions, wanted), positions.as_ref())?;
-    mean_normals(model, (&s.slave_conditions, wanted), positions.as_ref())?;
-    drop(positions);
-    // AUXILIAR_COORDINATES (after the mean normals, which do not read it: their scratch
-    // memory is free again).
+    for conditions in [&s.master_conditions, &s.slave_conditions] {
+        mean_normals(model, (conditions, wanted.as_deref()), positions.as_ref())?;
+    }
+    // The kept table is not read again: its memory (the quadrilaterals' nodal normals) goes
+    // before the segmentation's.
+    drop((wanted, positions));
+    drop(face_normals);
+    // AUXILIAR_COORDINATES (after the mean normals, which do not read it).
     let coords = model.nodes().coordinates();
     let mut aux = model
         .nodal_data()

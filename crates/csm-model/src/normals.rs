@@ -268,7 +268,7 @@ impl KeptFaceNormals {
     /// normals of the table's faces are no longer the centre normals it was kept with (their
     /// fingerprint differs: the caller then computes them).
     pub fn subset(&self, model: &ModelPart, conditions: &[ConditionIdx]) -> Option<FaceNormals> {
-        self.subsets(model, [conditions]).map(|[table]| table)
+        self.positions(model)?.subset(model, conditions)
     }
 
     /// [`subset`](Self::subset), also after other changes of the model (conditions added,
@@ -284,7 +284,7 @@ impl KeptFaceNormals {
         if !self.is_current(model) {
             return None;
         }
-        let [mut table] = self.subsets(model, [conditions])?;
+        let mut table = self.subset(model, conditions)?;
         table.stamp = self.stamp;
         Some(table)
     }
@@ -338,21 +338,6 @@ impl KeptFaceNormals {
             table: self,
             position,
         })
-    }
-
-    /// [`subset`](Self::subset) of each list of `lists`, with one check of the condition
-    /// normals and one position table for all of them; `None` when one of them is `None`.
-    pub fn subsets<const N: usize>(
-        &self,
-        model: &ModelPart,
-        lists: [&[ConditionIdx]; N],
-    ) -> Option<[FaceNormals; N]> {
-        let positions = self.positions(model)?;
-        let tables = lists.map(|conditions| positions.subset(model, conditions));
-        if tables.iter().any(Option::is_none) {
-            return None;
-        }
-        Some(tables.map(|t| t.unwrap_or_default()))
     }
 }
 

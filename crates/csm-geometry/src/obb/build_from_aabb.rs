@@ -77,11 +77,12 @@ fn aabb_diagonal(geometry: &Geometry<'_>) -> Result<(Point, Point, Vector, Real)
 }
 
 impl Obb {
-    /// What [`Obb::build_from_aabb`] of `geometry` with `enlargement` returns, less the box:
-    /// its errors (a non-finite `enlargement`, a zero AABB diagonal) at a fraction of the
-    /// cost, for a caller that needs the box only sometimes but its errors always. (The rest
-    /// of the construction cannot fail on the finite points of a [`Geometry`]: the diagonal's
-    /// Hughes–Möller completion is exactly perpendicular to it; tested.)
+    /// What [`Obb::build_from_aabb`] (and [`Obb2::from_geometry`]) of `geometry` with
+    /// `enlargement` returns, less the box: its errors (a non-finite `enlargement`, a zero AABB
+    /// diagonal) at a fraction of the cost, for a caller that needs the box only sometimes but
+    /// its errors always. (The rest of the construction cannot fail on the finite points of a
+    /// [`Geometry`]: the diagonal's Hughes–Möller completion is exactly perpendicular to it;
+    /// tested.)
     pub fn check_build_from_aabb(geometry: &Geometry<'_>, enlargement: Real) -> Result<(), Error> {
         check_enlargement(enlargement)?;
         aabb_diagonal(geometry).map(|_| ())

@@ -102,8 +102,8 @@ fn zero_extent_is_the_kratos_zero_norm_error() {
     );
 }
 
-/// [`Obb::check_build_from_aabb`] fails exactly where [`Obb::build_from_aabb`] fails, with the
-/// same error: random triangles and quadrilaterals over many scales, with nodes coincident,
+/// [`Obb::check_build_from_aabb`] fails exactly where [`Obb::build_from_aabb`] and
+/// [`Obb2::from_geometry`] fail, with the same error: random triangles and quadrilaterals over many scales, with nodes coincident,
 /// on a line, a diagonal at the ε threshold, and non-finite enlargements.
 #[test]
 fn the_aabb_box_check_fails_where_the_build_fails() {
@@ -151,12 +151,15 @@ fn the_aabb_box_check_fails_where_the_build_fails() {
         let g = Geometry::new(kind, &pts).unwrap();
         for enlargement in [0.0, 0.1 * scale, f64::NAN, f64::INFINITY] {
             let built = Obb::build_from_aabb(&g, enlargement).map(|_| ());
+            let built_2d = Obb2::from_geometry(&g, enlargement).map(|_| ());
             let checked = Obb::check_build_from_aabb(&g, enlargement);
-            assert_eq!(
-                built.as_ref().map_err(Error::kind),
-                checked.as_ref().map_err(Error::kind),
-                "case {case}, enlargement {enlargement}: {pts:?}"
-            );
+            for built in [&built, &built_2d] {
+                assert_eq!(
+                    built.as_ref().map_err(Error::kind),
+                    checked.as_ref().map_err(Error::kind),
+                    "case {case}, enlargement {enlargement}: {pts:?}"
+                );
+            }
             if built.is_err() {
                 failures += 1;
             } else {

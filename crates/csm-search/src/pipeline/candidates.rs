@@ -47,20 +47,23 @@ impl Bv {
         }
     }
 
-    /// [`Bv::build`]'s errors without the box where they can be told apart cheaply
-    /// (Kratos' 3D box on the AABB diagonal: [`Obb::check_build_from_aabb`]); `None` where
-    /// only building tells.
+    /// [`Bv::build`]'s errors without the box where they can be told apart cheaply (Kratos'
+    /// boxes on the AABB diagonal, 2D and 3D, fail alike: [`Obb::check_build_from_aabb`]);
+    /// `None` where only building tells.
     pub(crate) fn check(
         geometry: &Geometry<'_>,
         dim: usize,
         enlargement: Real,
-        params: &SearchParameters,
+        build_from_bounding_box: bool,
         compatibility: Compatibility,
     ) -> Option<Result<(), csm_geometry::Error>> {
         let robust = compatibility == Compatibility::Robust && !geometry.kind().is_solid();
-        let from_aabb = params.octree.build_from_bounding_box || geometry.kind().is_solid();
-        (dim != 2 && !robust && from_aabb)
-            .then(|| Obb::check_build_from_aabb(geometry, enlargement))
+        let on_diagonal = match (dim, robust) {
+            (2, false) => true,
+            (_, false) => build_from_bounding_box || geometry.kind().is_solid(),
+            (_, true) => false,
+        };
+        on_diagonal.then(|| Obb::check_build_from_aabb(geometry, enlargement))
     }
 
     fn intersects(&self, other: &Bv, mode: SatMode) -> bool {
@@ -255,7 +258,14 @@ pub(crate) fn slave_candidates(
         )
         .map_err(|e| geometry_error(model, s, &e))
     };
-    let mut slave_bv = match Bv::check(&geometry, cx.dim, cx.bbf, p, cx.compatibility) {
+    let check = Bv::check(
+        &geometry,
+        cx.dim,
+        cx.bbf,
+        p.octree.build_from_bounding_box,
+        cx.compatibility,
+    );
+    let mut slave_bv = match check {
         Some(checked) => {
             checked.map_err(|e| geometry_error(model, s, &e))?;
             None

@@ -869,11 +869,16 @@ fn update_mortar_conditions(
             .map_err(model_error)?,
         None => false,
     };
+    let taken = if initial.last_user {
+        initial.table.take()
+    } else {
+        None
+    };
     let face_normals = if !from_initial {
         let faces = compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
         mapping.then(|| faces.keep())
-    } else if initial.last_user {
-        initial.table.take().filter(|_| mapping)
+    } else if taken.is_some() {
+        taken.filter(|_| mapping)
     } else {
         initial.table.as_ref().filter(|_| mapping).cloned()
     };
