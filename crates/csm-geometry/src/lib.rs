@@ -26,6 +26,8 @@ mod mortar;
 mod obb;
 mod projection;
 mod shape;
+#[cfg(test)]
+mod test_support;
 
 pub use bounding::{Aabb, BoundingSphere};
 pub use error::{Error, ErrorKind};

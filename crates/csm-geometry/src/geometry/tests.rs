@@ -1,5 +1,6 @@
 //! Unit tests of the `geometry` module.
 use crate::math::{Point, Vector};
+use crate::test_support::uniform;
 use crate::{ErrorKind, Geometry, GeometryKind};
 
 fn p(x: f64, y: f64, z: f64) -> Point {
@@ -7,16 +8,6 @@ fn p(x: f64, y: f64, z: f64) -> Point {
 }
 
 #[track_caller]
-/// A reproducible sequence of numbers in [−½, ½) (xorshift64 from `seed`).
-fn uniform(mut state: u64) -> impl FnMut() -> f64 {
-    move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    }
-}
-
 fn check_close(a: f64, b: f64, tol: f64) {
     assert!((a - b).abs() <= tol, "{a} vs {b}");
 }

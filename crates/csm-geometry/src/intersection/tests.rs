@@ -208,13 +208,7 @@ fn segment_and_triangle_primitives() {
 #[test]
 fn a_common_point_proves_what_the_axes_find() {
     use crate::math::Matrix3;
-    let mut state = 0x00B0_B5A7_u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut next = crate::test_support::uniform(0x00B0_B5A7);
     let (mut proven, mut intersecting, mut pairs) = (0, 0, 0);
     for case in 0..20_000 {
         let offset = [0.0, 1e3, -2e6][case % 3];

@@ -103,17 +103,13 @@ fn zero_extent_is_the_kratos_zero_norm_error() {
 }
 
 /// [`Obb::check_build_from_aabb`] fails exactly where [`Obb::build_from_aabb`] and
-/// [`Obb2::from_geometry`] fail, with the same error: random triangles and quadrilaterals over many scales, with nodes coincident,
-/// on a line, a diagonal at the ε threshold, and non-finite enlargements.
+/// [`Obb2::from_geometry`] fail, with the same error: random triangles and quadrilaterals over
+/// many scales, with nodes coincident, on a line, a diagonal at the ε threshold, and
+/// non-finite enlargements.
 #[test]
 fn the_aabb_box_check_fails_where_the_build_fails() {
-    let mut state = 0x2545_F491_4F6C_DD1Du64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut uniform = crate::test_support::uniform(0x2545_F491_4F6C_DD1D);
+    let mut next = move || uniform() + 0.5;
     let (mut failures, mut builds) = (0, 0);
     for case in 0..4000 {
         let scale = 10f64.powi((case % 40) - 20);
