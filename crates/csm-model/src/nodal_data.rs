@@ -97,6 +97,9 @@ pub struct NodalData {
     n_nodes: usize,
     scalars: BTreeMap<ScalarVar, Vec<Vec<Real>>>,
     vectors: BTreeMap<VectorVar, Vec<Vec<Vector>>>,
+    /// Per vector variable, renewed ([`crate::entities::fresh_stamp`]) by every access that can
+    /// change its values ([`NodalData::vector_stamp`]).
+    vector_stamps: BTreeMap<VectorVar, u64>,
 }
 
 impl NodalData {
@@ -114,10 +117,31 @@ impl NodalData {
 
     /// Adds `var` (zero on every node) if absent.
     pub fn add_vector(&mut self, var: VectorVar) {
-        let n = self.n_nodes;
+        if !self.vectors.contains_key(&var) {
+            let steps = Self::steps_of(var.is_historical());
+            self.insert_vector(var, steps);
+        }
+    }
+
+    /// Adds `var` with `steps` zero columns.
+    fn insert_vector(&mut self, var: VectorVar, steps: usize) {
         self.vectors
-            .entry(var)
-            .or_insert_with(|| vec![vec![Vector::zeros(); n]; Self::steps_of(var.is_historical())]);
+            .insert(var, vec![vec![Vector::zeros(); self.n_nodes]; steps]);
+        self.renew(var);
+    }
+
+    /// Renews `var`'s stamp ([`NodalData::vector_stamp`]).
+    fn renew(&mut self, var: VectorVar) {
+        self.vector_stamps
+            .insert(var, crate::entities::fresh_stamp());
+    }
+
+    /// A value that changes with every access that can change the values of the vector
+    /// variable `var` (its mutable accesses, adding it, resizing, advancing the buffer) and
+    /// that no other model has (a clone shares it until one of them changes); 0 while `var`
+    /// is absent.
+    pub fn vector_stamp(&self, var: VectorVar) -> u64 {
+        self.vector_stamps.get(&var).copied().unwrap_or(0)
     }
 
     /// Adds `var` (zero on every node) if absent, keeping only the current step even when
@@ -132,10 +156,9 @@ impl NodalData {
 
     /// [`NodalData::add_scalar_current`] for a vector variable.
     pub fn add_vector_current(&mut self, var: VectorVar) {
-        let n = self.n_nodes;
-        self.vectors
-            .entry(var)
-            .or_insert_with(|| vec![vec![Vector::zeros(); n]]);
+        if !self.vectors.contains_key(&var) {
+            self.insert_vector(var, 1);
+        }
     }
 
     /// The number of steps kept for `var` (0 if absent; 1 for plain variables and for
@@ -180,6 +203,9 @@ impl NodalData {
 
     /// Mutable form of [`NodalData::vector`].
     pub fn vector_mut(&mut self, var: VectorVar, step: usize) -> Option<&mut [Vector]> {
+        if self.vectors.contains_key(&var) {
+            self.renew(var);
+        }
         self.vectors
             .get_mut(&var)?
             .get_mut(step)
@@ -189,6 +215,9 @@ impl NodalData {
     /// Takes the values of `var` at `step` out (leaving none), for
     /// [`ModelPart::with_vector_mut`](crate::ModelPart::with_vector_mut), which puts them back.
     pub(crate) fn take_vector(&mut self, var: VectorVar, step: usize) -> Option<Vec<Vector>> {
+        if self.vectors.contains_key(&var) {
+            self.renew(var);
+        }
         self.vectors
             .get_mut(&var)?
             .get_mut(step)
@@ -217,6 +246,14 @@ impl NodalData {
                 prev[0].copy_from_slice(&cur[0]);
             }
         }
+        self.renew_all();
+    }
+
+    /// Renews every vector variable's stamp.
+    fn renew_all(&mut self) {
+        for stamp in self.vector_stamps.values_mut() {
+            *stamp = crate::entities::fresh_stamp();
+        }
     }
 
     /// The variables present, scalars then vectors, in declaration order.
@@ -238,6 +275,7 @@ impl NodalData {
                 c.resize(n_nodes, Vector::zeros());
             }
         }
+        self.renew_all();
     }
 }
 

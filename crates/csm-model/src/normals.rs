@@ -68,6 +68,11 @@ pub struct FaceNormals {
     /// wrote these centre normals (0 before): while it is the same, the condition normals
     /// hold them ([`KeptFaceNormals::positions`]).
     normals_stamp: u64,
+    /// Where [`compute_unit_normals`] returned this table: the `NORMAL` stamp
+    /// ([`crate::NodalData::vector_stamp`]) right after it wrote the nodal normals of these
+    /// faces, and the mode; while the stamp is the same, `NORMAL` holds them
+    /// ([`compute_unit_normals_from_kept`]).
+    nodal_written: Option<(u64, NormalsMode)>,
 }
 
 impl PartialEq for FaceNormals {
@@ -229,6 +234,7 @@ impl FaceNormals {
             ends: self.ends,
             nodes: self.nodes,
             normals_stamp: self.normals_stamp,
+            nodal_written: self.nodal_written,
         }
     }
 
@@ -257,6 +263,8 @@ pub struct KeptFaceNormals {
     stamp: GeometryStamp,
     /// [`FaceNormals`]' condition-normals stamp.
     normals_stamp: u64,
+    /// [`FaceNormals`]' `NORMAL` stamp and mode.
+    nodal_written: Option<(u64, NormalsMode)>,
 }
 
 impl KeptFaceNormals {
@@ -651,6 +659,7 @@ pub fn face_unit_normals(
         nodes,
         stamp: model.geometry_stamp(),
         normals_stamp: 0,
+        nodal_written: None,
     })
 }
 
@@ -702,6 +711,7 @@ fn unit_normals_with(
     let nodal = normalised(model, &conditions, mode, sums)?;
     faces.set_condition_normals(model);
     write_nodal_normals(model, &conditions, nodal);
+    faces.nodal_written = Some((model.nodal_data().vector_stamp(VectorVar::Normal), mode));
     Ok(faces)
 }
 
@@ -711,7 +721,10 @@ fn unit_normals_with(
 /// ([`KeptFaceNormals::current_subset`]) and the table has every face of the part, writes
 /// what [`compute_unit_normals`] writes (the condition normals hold the table's centre
 /// normals already, so `known` stays current) and returns true; false, with nothing done,
-/// otherwise.
+/// otherwise. Where `known` is the table of a [`compute_unit_normals`] over exactly these
+/// conditions in this mode and `NORMAL` has not been written since (its
+/// [`NodalData::vector_stamp`](crate::NodalData::vector_stamp)), `NORMAL` already holds the
+/// result: nothing is computed.
 pub fn compute_unit_normals_from_kept(
     model: &mut ModelPart,
     part: Option<PartIdx>,
@@ -725,6 +738,12 @@ pub fn compute_unit_normals_from_kept(
         return Ok(false);
     };
     let conditions = conditions_of(model, part);
+    // The table's own computation over exactly these conditions, in this mode, with `NORMAL`
+    // untouched since: it holds what this one would write.
+    let written = model.nodal_data().vector_stamp(VectorVar::Normal);
+    if known.nodal_written == Some((written, mode)) && conditions == known.conditions {
+        return Ok(true);
+    }
     let n_nodes = model.nodes().len();
     let mut sums = (vec![Vector::zeros(); n_nodes], vec![0u32; n_nodes]);
     if !positions.nodal_sums_into(model, (&conditions, None), (&mut sums.0, &mut sums.1)) {

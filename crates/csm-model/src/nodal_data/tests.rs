@@ -53,3 +53,45 @@ fn variables_added_without_history_keep_one_step() {
     assert_eq!(d.scalar_steps(ScalarVar::WeightedGap), 2);
     assert_eq!(d.scalar_steps(ScalarVar::NodalArea), 0);
 }
+
+/// A vector variable's stamp changes with every access that can change its values, and only
+/// with those; a clone shares it until one of them changes.
+#[test]
+fn a_vector_stamp_follows_the_writes() {
+    let mut d = NodalData::default();
+    d.resize(3);
+    assert_eq!(d.vector_stamp(VectorVar::Normal), 0);
+    d.add_vector(VectorVar::Normal);
+    let added = d.vector_stamp(VectorVar::Normal);
+    assert_ne!(added, 0);
+    // Reading, adding it again, other variables: the same.
+    let _ = d.vector(VectorVar::Normal, 0);
+    d.add_vector(VectorVar::Normal);
+    d.add_vector_current(VectorVar::AuxiliarCoordinates);
+    d.scalar_mut(ScalarVar::NormalGap, 0);
+    d.vector_mut(VectorVar::AuxiliarCoordinates, 0);
+    assert_eq!(d.vector_stamp(VectorVar::Normal), added);
+    let clone = d.clone();
+    assert_eq!(clone.vector_stamp(VectorVar::Normal), added);
+    // Every write access, the buffer advanced, the nodes resized: a new stamp each time.
+    let mut seen = vec![added];
+    let writes: [fn(&mut NodalData); 4] = [
+        |d| {
+            let _ = d.vector_mut(VectorVar::Normal, 0);
+        },
+        |d| {
+            if let Some(v) = d.take_vector(VectorVar::Normal, 0) {
+                d.put_vector(VectorVar::Normal, 0, v);
+            }
+        },
+        |d| d.clone_solution_step(),
+        |d| d.resize(4),
+    ];
+    for write in writes {
+        write(&mut d);
+        let stamp = d.vector_stamp(VectorVar::Normal);
+        assert!(!seen.contains(&stamp), "{seen:?} {stamp}");
+        seen.push(stamp);
+    }
+    assert_eq!(clone.vector_stamp(VectorVar::Normal), added);
+}

@@ -405,6 +405,12 @@ fn a_current_kept_table_gives_what_computing_gives() {
     };
     let (used, m) = from_kept(&mp, everything);
     assert!(used && same(&m, &fresh_of_all(&mp)));
+    // NORMAL written since the table's own computation: computed again, not taken as it is.
+    let mut touched = mp.clone();
+    let normal = touched.nodal_data_mut().vector_mut(VectorVar::Normal, 0);
+    normal.unwrap()[0] = Vector::new(0.0, 0.0, 7.0);
+    let (used, m) = from_kept(&touched, everything);
+    assert!(used && same(&m, &fresh_of_all(&touched)));
     // A table without some of the part's faces is not used.
     let half = compute_unit_normals(&mut mp.clone(), Some(part), NormalsMode::Kratos)
         .unwrap()
