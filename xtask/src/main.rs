@@ -1,8 +1,8 @@
 //! Project automation for csm (`cargo xtask <command>`), in Rust rather than shell.
 //!
 //! - `cargo xtask ci`: exactly what CI runs: `cargo fmt --check`, `cargo clippy -D warnings`
-//!   over every target, every test (insta snapshots fail when missing or changed), then the
-//!   feature matrix.
+//!   over every target, `cargo doc -D warnings` (every intra-doc link resolves), every test
+//!   (insta snapshots fail when missing or changed), then the feature matrix.
 //! - `cargo xtask features`: the feature matrix alone: `cargo clippy -D warnings` of the
 //!   facade with no feature and with each feature alone, of `csm-io` likewise, and `csm-io`'s
 //!   unit tests without its default features (a user of one layer or one format compiles
@@ -84,6 +84,10 @@ fn ci() -> Result<()> {
             "warnings",
         ],
         &[],
+    )?;
+    cargo(
+        &["doc", "--workspace", "--no-deps"],
+        &[("RUSTDOCFLAGS", "-D warnings")],
     )?;
     cargo(&["test", "--workspace", "--all-targets"], &TEST_ENV)?;
     features()?;

@@ -105,7 +105,7 @@ fn sat(c1: &Vector, c2: &Vector, f1: &Frame<'_>, f2: &Frame<'_>, mode: SatMode) 
 /// SAT between two 3D OBBs: the 3 axes of `obb1`, the 3 of `obb2`, then the 9 cross products
 /// `A1_i × A2_j` (i outer), first separating axis wins. `true` = intersecting. See [`SatMode`]
 /// for the two arithmetic modes. Boxes that a common point proves intersecting
-/// ([`certainly_intersect`]) answer `true` without the fifteen axes: the answer the axes give.
+/// (`certainly_intersect`) answer `true` without the fifteen axes: the answer the axes give.
 pub fn sat_obb_obb(obb1: &Obb, obb2: &Obb, mode: SatMode) -> bool {
     if certainly_intersect(obb1, obb2) {
         return true;
