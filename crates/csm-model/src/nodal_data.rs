@@ -203,25 +203,21 @@ impl NodalData {
 
     /// Mutable form of [`NodalData::vector`].
     pub fn vector_mut(&mut self, var: VectorVar, step: usize) -> Option<&mut [Vector]> {
+        self.column_mut(var, step).map(Vec::as_mut_slice)
+    }
+
+    /// The column of `var` at `step`, for writing: `var`'s stamp is renewed.
+    fn column_mut(&mut self, var: VectorVar, step: usize) -> Option<&mut Vec<Vector>> {
         if self.vectors.contains_key(&var) {
             self.renew(var);
         }
-        self.vectors
-            .get_mut(&var)?
-            .get_mut(step)
-            .map(Vec::as_mut_slice)
+        self.vectors.get_mut(&var)?.get_mut(step)
     }
 
     /// Takes the values of `var` at `step` out (leaving none), for
     /// [`ModelPart::with_vector_mut`](crate::ModelPart::with_vector_mut), which puts them back.
     pub(crate) fn take_vector(&mut self, var: VectorVar, step: usize) -> Option<Vec<Vector>> {
-        if self.vectors.contains_key(&var) {
-            self.renew(var);
-        }
-        self.vectors
-            .get_mut(&var)?
-            .get_mut(step)
-            .map(std::mem::take)
+        self.column_mut(var, step).map(std::mem::take)
     }
 
     /// Puts back what [`NodalData::take_vector`] took.

@@ -324,6 +324,12 @@ impl KeptFaceNormals {
         if !self.holds_centres(model) {
             return None;
         }
+        self.positions_checked(model)
+    }
+
+    /// [`positions`](Self::positions) once the condition normals are known to hold the
+    /// table's centre normals (`None` where one of its faces is not a condition of `model`).
+    fn positions_checked(&self, model: &ModelPart) -> Option<KeptPositions<'_>> {
         // A table of every condition in index order (the normal check's) is its own
         // position table.
         let n = model.conditions().len();
@@ -731,12 +737,9 @@ pub fn compute_unit_normals_from_kept(
     mode: NormalsMode,
     known: &KeptFaceNormals,
 ) -> Result<bool, Error> {
-    if !known.is_current(model) {
+    if !known.is_current(model) || !known.holds_centres(model) {
         return Ok(false);
     }
-    let Some(positions) = known.positions(model) else {
-        return Ok(false);
-    };
     let conditions = conditions_of(model, part);
     // The table's own computation over exactly these conditions, in this mode, with `NORMAL`
     // untouched since: it holds what this one would write.
@@ -744,6 +747,9 @@ pub fn compute_unit_normals_from_kept(
     if known.nodal_written == Some((written, mode)) && conditions == known.conditions {
         return Ok(true);
     }
+    let Some(positions) = known.positions_checked(model) else {
+        return Ok(false);
+    };
     let n_nodes = model.nodes().len();
     let mut sums = (vec![Vector::zeros(); n_nodes], vec![0u32; n_nodes]);
     if !positions.nodal_sums_into(model, (&conditions, None), (&mut sums.0, &mut sums.1)) {

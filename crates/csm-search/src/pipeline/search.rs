@@ -874,13 +874,13 @@ fn update_mortar_conditions(
     } else {
         None
     };
-    let face_normals = if !from_initial {
+    let face_normals = if from_initial {
+        mapping
+            .then(|| taken.or_else(|| initial.table.clone()))
+            .flatten()
+    } else {
         let faces = compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?;
         mapping.then(|| faces.keep())
-    } else if taken.is_some() {
-        taken.filter(|_| mapping)
-    } else {
-        initial.table.as_ref().filter(|_| mapping).cloned()
     };
     crate::trace::mark("unit normals");
     // 3. The running id of created pairs: after the largest condition id of the root (the
