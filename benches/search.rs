@@ -28,6 +28,25 @@ fn kdtree(c: &mut Criterion) {
     c.bench_function("kdtree build 1e5", |b| {
         b.iter(|| KdTree::new(black_box(&points), 4).unwrap())
     });
+    // The step's tree: subtrees of up to 1024 points built when a query first reaches them;
+    // here queries in a corner of the cloud (the bodies touching in a small region).
+    let corner: Vec<Point> = points
+        .iter()
+        .map(|(_, p)| p)
+        .filter(|p| p.x < 0.1 && p.y < 0.1)
+        .take(1000)
+        .copied()
+        .collect();
+    c.bench_function("kdtree deferred build + 1e3 corner queries 1e5", |b| {
+        let mut out = Vec::new();
+        b.iter(|| {
+            let tree = KdTree::new_deferred(black_box(&points), 4, 1024).unwrap();
+            for q in &corner {
+                tree.in_radius(q, 0.01, 1000, &mut out).unwrap();
+            }
+            black_box(out.len())
+        })
+    });
     // A multi-step run's tree update: the points translated and perturbed a little.
     let moved: Vec<Point> = points
         .iter()

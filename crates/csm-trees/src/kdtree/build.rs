@@ -15,25 +15,34 @@ const PARALLEL_MIN: usize = 16_384;
 /// appended: the arena is the serial build's (pre-order: a node, its left subtree, its right
 /// subtree), node for node, for any thread count.
 ///
+/// A range of more than `bucket_size` and at most `defer_max` points becomes a
+/// [`Node::Deferred`] (its entries left in their order, numbered in pre-order from 0); with
+/// `defer_max <= bucket_size` none does.
+///
 /// `bucket_size >= 1` and `points.len() <= u32::MAX / 2` are checked by the caller.
 pub(super) fn build<T: Copy + Send>(
     items: &mut [T],
     points: &mut [Point],
     nodes: &mut Vec<Node>,
     bucket_size: usize,
+    defer_max: usize,
 ) -> Option<u32> {
-    build_with(items, points, nodes, bucket_size, PARALLEL_MIN)
+    let root = build_with(items, points, nodes, (bucket_size, PARALLEL_MIN, defer_max))?;
+    if defer_max > bucket_size {
+        number_deferred(nodes, root, &mut 0);
+    }
+    Some(root)
 }
 
-/// [`build`], splitting ranges of at least `parallel_min` points into parallel halves.
+/// [`build`] without numbering the deferred ranges; `sizes`: the bucket size, the smallest
+/// range built in parallel halves and the largest deferred range.
 pub(super) fn build_with<T: Copy + Send>(
     items: &mut [T],
     points: &mut [Point],
     nodes: &mut Vec<Node>,
-    bucket_size: usize,
-    parallel_min: usize,
+    sizes: (usize, usize, usize),
 ) -> Option<u32> {
-    debug_assert!(bucket_size >= 1);
+    debug_assert!(sizes.0 >= 1);
     debug_assert_eq!(items.len(), points.len());
     if points.is_empty() {
         return None;
@@ -43,7 +52,22 @@ pub(super) fn build_with<T: Copy + Send>(
         points,
         base: 0,
     };
-    Some(build_range(entries, nodes, (bucket_size, parallel_min)))
+    Some(build_range(entries, nodes, sizes))
+}
+
+/// Numbers the [`Node::Deferred`] nodes of the subtree `node` in pre-order from `*next`.
+fn number_deferred(nodes: &mut [Node], node: u32, next: &mut u32) {
+    match &mut nodes[node as usize] {
+        Node::Leaf { .. } => {}
+        Node::Deferred { slot, .. } => {
+            *slot = *next;
+            *next += 1;
+        }
+        &mut Node::Inner { left, right, .. } => {
+            number_deferred(nodes, left, next);
+            number_deferred(nodes, right, next);
+        }
+    }
 }
 
 /// A range of the two parallel arrays, swapped together; `base` is the position of its first
@@ -89,19 +113,28 @@ impl<'a, T> Entries<'a, T> {
 
 /// Builds the subtree over the non-empty `entries`, appending its nodes to `nodes` (in
 /// pre-order), and returns its node index.
-/// `sizes`: the bucket size and the smallest range built in parallel halves.
+/// `sizes`: the bucket size, the smallest range built in parallel halves and the largest
+/// deferred range.
 fn build_range<T: Send>(
     mut entries: Entries<'_, T>,
     nodes: &mut Vec<Node>,
-    sizes: (usize, usize),
+    sizes: (usize, usize, usize),
 ) -> u32 {
-    let (bucket_size, parallel_min) = sizes;
+    let (bucket_size, parallel_min, defer_max) = sizes;
     let n = entries.len();
     debug_assert!(n > 0);
     // Fits: there are fewer than 2·len nodes and the caller checked len <= u32::MAX / 2.
     let index = nodes.len() as u32;
     if n <= bucket_size {
         nodes.push(Node::Leaf {
+            start: entries.base as u32,
+            end: (entries.base + n) as u32,
+        });
+        return index;
+    }
+    if n <= defer_max {
+        nodes.push(Node::Deferred {
+            slot: 0,
             start: entries.base as u32,
             end: (entries.base + n) as u32,
         });

@@ -54,6 +54,7 @@ fn check_invariants(tree: &KdTree<usize>) {
                 assert!(rlo[axis] >= right_min, "right point before its bound");
                 (llo.inf(&rlo), lhi.sup(&rhi))
             }
+            Node::Deferred { .. } => panic!("a deferred subtree in a settled tree"),
         }
     }
     let mut covered = Vec::new();
@@ -107,7 +108,7 @@ fn split_and_traversal_order_follow_kratos() {
     assert_eq!(stored, [1, 2, 0]);
     match tree.nodes[tree.root.unwrap() as usize] {
         Node::Inner { axis, cut, .. } => assert_eq!((axis, cut), (0, 2.0)),
-        Node::Leaf { .. } => panic!("root should be a split"),
+        _ => panic!("root should be a split"),
     }
     let mut out = Vec::new();
     tree.in_radius(&p(2.6, 0.0, 0.0), 10.0, 10, &mut out)
@@ -336,8 +337,12 @@ fn parallel_halves_build_the_serial_arena() {
             let mut items: Vec<usize> = cloud.iter().map(|(i, _)| *i).collect();
             let mut points: Vec<Point> = cloud.iter().map(|(_, x)| *x).collect();
             let mut nodes = Vec::new();
-            let root =
-                super::build::build_with(&mut items, &mut points, &mut nodes, bucket, parallel_min);
+            let root = super::build::build_with(
+                &mut items,
+                &mut points,
+                &mut nodes,
+                (bucket, parallel_min, 0),
+            );
             (root, items, points, nodes)
         };
         let serial = build(usize::MAX);
@@ -403,4 +408,78 @@ fn queries_missing_the_extent_find_nothing_and_agree_with_brute_force() {
     tree.in_radius(&p(5.0, 0.0, 0.0), 6.5, 1000, &mut got)
         .unwrap();
     assert_eq!(got.len(), 500, "a sphere around the box finds every point");
+}
+
+/// A deferred tree answers every query as the fully built tree does, results in the same order
+/// and truncated alike, whichever subtrees earlier queries built; settled, it is that tree node
+/// for node (arena, entry order, extent), and its entry order is the same before settling.
+#[test]
+fn deferred_subtrees_give_the_built_tree() {
+    let clouds = [
+        (lcg_cloud(3000, 11), 4),
+        (irregular_cloud(2500), 3),
+        (lcg_cloud(700, 5), 1),
+    ];
+    for (cloud, bucket) in clouds {
+        let full = KdTree::new(&cloud, bucket).unwrap();
+        for defer_max in [0, bucket, bucket + 1, 7, 64, 500, 10_000] {
+            let mut tree = KdTree::new_deferred(&cloud, bucket, defer_max).unwrap();
+            assert_eq!(
+                tree.has_deferred(),
+                defer_max > bucket && cloud.len() > bucket,
+                "defer_max {defer_max}"
+            );
+            let (mut got, mut want) = (Vec::new(), Vec::new());
+            // Queries of every size, some capped, in an order that builds subtrees piecemeal.
+            for (k, (_, x)) in cloud.iter().enumerate().step_by(97) {
+                let radius = [0.01, 0.1, 0.4, 3.0][k % 4];
+                let cap = [1000, 3, 10_000][k % 3];
+                let s1 = tree.in_radius(x, radius, cap, &mut got).unwrap();
+                let s2 = full.in_radius(x, radius, cap, &mut want).unwrap();
+                assert_eq!((&got, s1), (&want, s2), "radius {radius} at {x:?}");
+                let lo = p(x[0] - radius, x[1] - radius, x[2]);
+                let hi = p(x[0] + radius, x[1], x[2] + radius);
+                let s1 = tree.in_box(&lo, &hi, cap, &mut got).unwrap();
+                let s2 = full.in_box(&lo, &hi, cap, &mut want).unwrap();
+                assert_eq!((&got, s1), (&want, s2), "box {lo:?} – {hi:?}");
+            }
+            let entries = |t: &KdTree<usize>| t.iter().map(|(i, x)| (*i, *x)).collect::<Vec<_>>();
+            assert_eq!(entries(&tree), entries(&full), "order before settling");
+            tree.settle();
+            assert!(!tree.has_deferred());
+            assert_eq!(
+                (
+                    &tree.nodes,
+                    &tree.items,
+                    &tree.points,
+                    tree.root,
+                    tree.extent
+                ),
+                (
+                    &full.nodes,
+                    &full.items,
+                    &full.points,
+                    full.root,
+                    full.extent
+                ),
+                "settled tree, defer_max {defer_max}"
+            );
+            check_invariants(&tree);
+        }
+        // Settling without a query builds every subtree; a rebuild of moved points and a
+        // refit start from the settled order, as the built tree's do.
+        let mut tree = KdTree::new_deferred(&cloud, bucket, 64).unwrap();
+        let mut built = full.clone();
+        let moved = |i: usize| cloud[(i * 7 + 3) % cloud.len()].1;
+        tree.rebuild_moved(moved).unwrap();
+        built.rebuild_moved(moved).unwrap();
+        tree.settle();
+        assert_eq!((&tree.nodes, &tree.items), (&built.nodes, &built.items));
+        let mut tree = KdTree::new_deferred(&cloud, bucket, 64).unwrap();
+        let mut built = full.clone();
+        tree.refit(moved).unwrap();
+        built.refit(moved).unwrap();
+        assert!(!tree.has_deferred());
+        assert_eq!((&tree.nodes, &tree.items), (&built.nodes, &built.items));
+    }
 }

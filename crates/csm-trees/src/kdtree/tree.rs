@@ -1,5 +1,7 @@
 //! The kd-tree type: storage, construction entry points and accessors.
 
+use std::sync::OnceLock;
+
 use csm_geometry::math::{Point, Real};
 
 use crate::aabb::Aabb;
@@ -28,6 +30,27 @@ pub(crate) enum Node {
         left: u32,
         right: u32,
     },
+    /// A subtree not built yet ([`KdTree::new_deferred`]) over the entries `start..end`, still
+    /// in the order the split above left them: built as [`KdTree::deferred`]`[slot]` by the
+    /// first query that reaches it, or in place by [`KdTree::settle`].
+    Deferred { slot: u32, start: u32, end: u32 },
+}
+
+/// A deferred subtree once built: its entries (the range's, permuted by the build) and its
+/// arena (root at 0; its leaves index its own entries).
+#[derive(Debug, Clone)]
+pub(crate) struct Subtree<T> {
+    pub(crate) items: Vec<T>,
+    pub(crate) points: Vec<Point>,
+    pub(crate) nodes: Vec<Node>,
+}
+
+/// The arena and entries a query walks: the tree's own, or a deferred subtree's.
+#[derive(Clone, Copy)]
+pub(crate) struct Arena<'a, T> {
+    pub(crate) nodes: &'a [Node],
+    pub(crate) items: &'a [T],
+    pub(crate) points: &'a [Point],
 }
 
 /// A bucketed kd-tree over `(item, point)` entries, built once and queried many times.
@@ -44,6 +67,10 @@ pub(crate) enum Node {
 ///
 /// Queries: [`KdTree::in_radius`] (strict, `|p − c| < r`) and [`KdTree::in_box`] (inclusive),
 /// both with a result cap and a caller-owned output buffer.
+///
+/// A tree built by [`KdTree::new_deferred`] splits only its large ranges at once and builds
+/// each small subtree when a query first reaches it: the queries, their results and their
+/// order are the fully built tree's, and [`KdTree::settle`] makes it that tree, node for node.
 #[derive(Debug, Clone)]
 pub struct KdTree<T> {
     /// The items, in the tree's (permuted) order.
@@ -59,6 +86,11 @@ pub struct KdTree<T> {
     pub(crate) extent: Option<Aabb>,
     /// The maximum number of points in a leaf.
     pub(crate) bucket_size: usize,
+    /// Ranges of more than `bucket_size` and at most this many points are deferred by a build
+    /// (none where it is not above `bucket_size`).
+    pub(crate) defer_max: usize,
+    /// The deferred subtrees, by [`Node::Deferred`] slot; empty when none is left.
+    pub(crate) deferred: Vec<OnceLock<Subtree<T>>>,
 }
 
 impl<T: Copy + Send> KdTree<T> {
@@ -69,6 +101,21 @@ impl<T: Copy + Send> KdTree<T> {
     /// coordinate, [`ErrorKind::TooManyEntries`] beyond `u32::MAX / 2` entries. An empty slice
     /// gives an empty tree.
     pub fn new(entries: &[(T, Point)], bucket_size: usize) -> Result<KdTree<T>, Error> {
+        KdTree::new_deferred(entries, bucket_size, 0)
+    }
+
+    /// [`KdTree::new`] that builds the subtrees of more than `bucket_size` and at most
+    /// `defer_max` points only when a query first reaches one (each in the calling thread; a
+    /// concurrent query waits for it). Where queries visit a small part of the points, most
+    /// of the build is never done. Every query result, and its order, is [`KdTree::new`]'s;
+    /// [`KdTree::settle`] builds the rest. Rebuilds defer likewise.
+    ///
+    /// Errors: those of [`KdTree::new`].
+    pub fn new_deferred(
+        entries: &[(T, Point)],
+        bucket_size: usize,
+        defer_max: usize,
+    ) -> Result<KdTree<T>, Error> {
         let mut tree = KdTree {
             items: Vec::new(),
             points: Vec::new(),
@@ -76,6 +123,8 @@ impl<T: Copy + Send> KdTree<T> {
             root: None,
             extent: None,
             bucket_size: KRATOS_BUCKET_SIZE,
+            defer_max,
+            deferred: Vec::new(),
         };
         tree.set_bucket_size(bucket_size)?;
         tree.rebuild(entries)?;
@@ -109,6 +158,7 @@ impl<T: Copy + Send> KdTree<T> {
     /// Errors: [`ErrorKind::NonFinite`] if a new position is NaN or infinite; the tree is then
     /// left empty (every entry is dropped), so a failed rebuild can never be queried by mistake.
     pub fn rebuild_moved(&mut self, position: impl FnMut(T) -> Point) -> Result<(), Error> {
+        self.settle();
         self.move_points(position)?;
         self.build_in_place();
         Ok(())
@@ -127,6 +177,7 @@ impl<T: Copy + Send> KdTree<T> {
     /// Errors: [`ErrorKind::NonFinite`] if a new position is NaN or infinite; the tree is then
     /// left empty (every entry is dropped), so a failed refit can never be queried by mistake.
     pub fn refit(&mut self, position: impl FnMut(T) -> Point) -> Result<(), Error> {
+        self.settle();
         self.move_points(position)?;
         self.extent = self.root.map(|root| {
             let (lo, hi) = refit_node(&mut self.nodes, &self.points, root);
@@ -149,6 +200,7 @@ impl<T: Copy + Send> KdTree<T> {
             self.items.clear();
             self.points.clear();
             self.nodes.clear();
+            self.deferred.clear();
             self.root = None;
             self.extent = None;
             return Err(Error::non_finite("point"));
@@ -173,9 +225,159 @@ impl<T: Copy + Send> KdTree<T> {
             &mut self.points,
             &mut self.nodes,
             self.bucket_size,
+            self.defer_max,
         );
+        let n_deferred = self
+            .nodes
+            .iter()
+            .filter(|node| matches!(node, Node::Deferred { .. }))
+            .count();
+        self.deferred = (0..n_deferred).map(|_| OnceLock::new()).collect();
         self.extent = Aabb::from_points(self.points.iter());
     }
+
+    /// Builds every deferred subtree that no query has built yet and puts them all in place:
+    /// the tree is then [`KdTree::new`]'s, node for node and entry for entry. Nothing to do
+    /// on a tree without deferred subtrees.
+    pub fn settle(&mut self) {
+        let (Some(root), false) = (self.root, self.deferred.is_empty()) else {
+            return;
+        };
+        let deferred = std::mem::take(&mut self.deferred);
+        let old = std::mem::take(&mut self.nodes);
+        let mut nodes = Vec::with_capacity(old.len());
+        let mut settle = Settle {
+            old: &old,
+            deferred,
+            items: &mut self.items,
+            points: &mut self.points,
+            bucket_size: self.bucket_size,
+            nodes: &mut nodes,
+        };
+        self.root = Some(settle.node(root));
+        self.nodes = nodes;
+    }
+
+    /// The deferred subtree `slot` over the entries `start..end`, built now if no query did.
+    pub(crate) fn subtree(&self, slot: u32, start: u32, end: u32) -> &Subtree<T> {
+        self.deferred[slot as usize].get_or_init(|| {
+            let range = start as usize..end as usize;
+            build_subtree(
+                self.items[range.clone()].to_vec(),
+                self.points[range].to_vec(),
+                self.bucket_size,
+            )
+        })
+    }
+}
+
+/// Builds the whole tree over `items`/`points` (more than `bucket_size` of them).
+fn build_subtree<T: Copy + Send>(
+    mut items: Vec<T>,
+    mut points: Vec<Point>,
+    bucket_size: usize,
+) -> Subtree<T> {
+    let mut nodes = Vec::new();
+    build::build(&mut items, &mut points, &mut nodes, bucket_size, 0);
+    Subtree {
+        items,
+        points,
+        nodes,
+    }
+}
+
+impl<T> Subtree<T> {
+    /// Its arena and entries.
+    pub(crate) fn arena(&self) -> Arena<'_, T> {
+        Arena {
+            nodes: &self.nodes,
+            items: &self.items,
+            points: &self.points,
+        }
+    }
+}
+
+/// The walk of [`KdTree::settle`]: copies the arena in pre-order into `nodes`, with every
+/// deferred subtree's arena in the place of its node.
+struct Settle<'a, T> {
+    old: &'a [Node],
+    deferred: Vec<OnceLock<Subtree<T>>>,
+    items: &'a mut [T],
+    points: &'a mut [Point],
+    bucket_size: usize,
+    nodes: &'a mut Vec<Node>,
+}
+
+impl<T: Copy + Send> Settle<'_, T> {
+    /// Copies the subtree `node` of the old arena; returns its index in the new one.
+    fn node(&mut self, node: u32) -> u32 {
+        let index = self.nodes.len() as u32;
+        match self.old[node as usize] {
+            leaf @ Node::Leaf { .. } => self.nodes.push(leaf),
+            Node::Inner {
+                axis,
+                cut,
+                left_max,
+                right_min,
+                left,
+                right,
+            } => {
+                self.nodes.push(leaf_placeholder());
+                let left = self.node(left);
+                let right = self.node(right);
+                self.nodes[index as usize] = Node::Inner {
+                    axis,
+                    cut,
+                    left_max,
+                    right_min,
+                    left,
+                    right,
+                };
+            }
+            Node::Deferred { slot, start, end } => {
+                let range = start as usize..end as usize;
+                let sub = std::mem::take(&mut self.deferred[slot as usize])
+                    .into_inner()
+                    .unwrap_or_else(|| {
+                        build_subtree(
+                            self.items[range.clone()].to_vec(),
+                            self.points[range.clone()].to_vec(),
+                            self.bucket_size,
+                        )
+                    });
+                self.items[range.clone()].copy_from_slice(&sub.items);
+                self.points[range].copy_from_slice(&sub.points);
+                self.nodes
+                    .extend(sub.nodes.into_iter().map(|node| match node {
+                        Node::Leaf { start: s, end: e } => Node::Leaf {
+                            start: s + start,
+                            end: e + start,
+                        },
+                        Node::Inner {
+                            axis,
+                            cut,
+                            left_max,
+                            right_min,
+                            left,
+                            right,
+                        } => Node::Inner {
+                            axis,
+                            cut,
+                            left_max,
+                            right_min,
+                            left: left + index,
+                            right: right + index,
+                        },
+                        deferred @ Node::Deferred { .. } => deferred,
+                    }));
+            }
+        }
+        index
+    }
+}
+
+fn leaf_placeholder() -> Node {
+    Node::Leaf { start: 0, end: 0 }
 }
 
 impl<T> KdTree<T> {
@@ -194,15 +396,65 @@ impl<T> KdTree<T> {
         self.bucket_size
     }
 
-    /// The number of nodes (leaves and inner nodes).
+    /// The number of nodes (leaves and inner nodes) built so far: a deferred subtree counts
+    /// as one node until it is built and settled ([`KdTree::settle`]).
     pub fn n_nodes(&self) -> usize {
         self.nodes.len()
     }
 
+    /// Whether some subtree is still deferred ([`KdTree::new_deferred`]).
+    pub fn has_deferred(&self) -> bool {
+        !self.deferred.is_empty()
+    }
+}
+
+impl<T: Copy + Send> KdTree<T> {
     /// The entries in the tree's internal (permuted) order: leaves left to right, each bucket
-    /// in stored order.
+    /// in stored order. A deferred subtree is built for it (it holds the order of its range).
     pub fn iter(&self) -> impl Iterator<Item = (&T, &Point)> + '_ {
-        self.items.iter().zip(self.points.iter())
+        let mut pieces = Vec::new();
+        let mut at = 0;
+        for (slot, start, end) in self.deferred_ranges() {
+            let sub = self.subtree(slot, start, end);
+            pieces.push((
+                &self.items[at..start as usize],
+                &self.points[at..start as usize],
+            ));
+            pieces.push((&sub.items[..], &sub.points[..]));
+            at = end as usize;
+        }
+        pieces.push((&self.items[at..], &self.points[at..]));
+        pieces
+            .into_iter()
+            .flat_map(|(items, points)| items.iter().zip(points))
+    }
+
+    /// The deferred nodes' `(slot, start, end)`, in entry order.
+    fn deferred_ranges(&self) -> Vec<(u32, u32, u32)> {
+        if self.deferred.is_empty() {
+            return Vec::new();
+        }
+        let mut ranges: Vec<(u32, u32, u32)> = self
+            .nodes
+            .iter()
+            .filter_map(|node| match *node {
+                Node::Deferred { slot, start, end } => Some((slot, start, end)),
+                _ => None,
+            })
+            .collect();
+        ranges.sort_unstable_by_key(|r| r.1);
+        ranges
+    }
+}
+
+impl<T> KdTree<T> {
+    /// The arena and entries of the tree itself (a query's start).
+    pub(crate) fn arena(&self) -> Arena<'_, T> {
+        Arena {
+            nodes: &self.nodes,
+            items: &self.items,
+            points: &self.points,
+        }
     }
 
     /// The bounding box of all points; `None` for an empty tree.
@@ -214,7 +466,8 @@ impl<T> KdTree<T> {
 /// Refits the bounds of the subtree `node` to `points` and returns its extent `(min, max)`.
 fn refit_node(nodes: &mut [Node], points: &[Point], node: u32) -> (Point, Point) {
     match nodes[node as usize] {
-        Node::Leaf { start, end } => {
+        // A refit settles the tree first; a deferred range's extent is its points' anyway.
+        Node::Leaf { start, end } | Node::Deferred { start, end, .. } => {
             let pts = &points[start as usize..end as usize];
             let lo = pts.iter().fold(pts[0], |a, b| a.inf(b));
             let hi = pts.iter().fold(pts[0], |a, b| a.sup(b));

@@ -6,10 +6,10 @@ use csm_geometry::math::Point;
 
 use crate::aabb::Aabb;
 use crate::error::{Error, check_point};
-use crate::kdtree::tree::{KdTree, Node};
+use crate::kdtree::tree::{Arena, KdTree, Node};
 use crate::query_status::QueryStatus;
 
-impl<T: Copy> KdTree<T> {
+impl<T: Copy + Send> KdTree<T> {
     /// Collects into `out` (cleared first) the items whose point `p` satisfies
     /// `min[k] <= p[k] <= max[k]` for k = x, y, z (**inclusive**, as Kratos' `SearchInBox`),
     /// at most `max_results` of them.
@@ -39,6 +39,7 @@ impl<T: Copy> KdTree<T> {
         }
         let mut search = BoxSearch {
             tree: self,
+            arena: self.arena(),
             aabb,
             max_results,
             out,
@@ -53,20 +54,22 @@ impl<T: Copy> KdTree<T> {
 /// The state of one box query.
 struct BoxSearch<'a, T> {
     tree: &'a KdTree<T>,
+    /// The arena `visit`'s nodes are in: the tree's, or a deferred subtree's.
+    arena: Arena<'a, T>,
     aabb: Aabb,
     max_results: usize,
     out: &'a mut Vec<T>,
 }
 
-impl<T: Copy> BoxSearch<'_, T> {
+impl<T: Copy + Send> BoxSearch<'_, T> {
     /// Visits the subtree `node`; breaks when a hit beyond the cap is found (truncation).
     fn visit(&mut self, node: u32) -> ControlFlow<()> {
-        match self.tree.nodes[node as usize] {
+        match self.arena.nodes[node as usize] {
             Node::Leaf { start, end } => {
                 let (start, end) = (start as usize, end as usize);
-                for (item, p) in self.tree.items[start..end]
+                for (item, p) in self.arena.items[start..end]
                     .iter()
-                    .zip(&self.tree.points[start..end])
+                    .zip(&self.arena.points[start..end])
                 {
                     if self.aabb.contains_point(p) {
                         if self.out.len() >= self.max_results {
@@ -93,6 +96,13 @@ impl<T: Copy> BoxSearch<'_, T> {
                     self.visit(right)?;
                 }
                 ControlFlow::Continue(())
+            }
+            Node::Deferred { slot, start, end } => {
+                let outer = self.arena;
+                self.arena = self.tree.subtree(slot, start, end).arena();
+                let flow = self.visit(0);
+                self.arena = outer;
+                flow
             }
         }
     }

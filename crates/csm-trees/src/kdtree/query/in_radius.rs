@@ -6,10 +6,10 @@ use csm_geometry::math::{Point, Real};
 
 use crate::aabb::Aabb;
 use crate::error::{Error, ErrorKind, check_point};
-use crate::kdtree::tree::{KdTree, Node};
+use crate::kdtree::tree::{Arena, KdTree, Node};
 use crate::query_status::QueryStatus;
 
-impl<T: Copy> KdTree<T> {
+impl<T: Copy + Send> KdTree<T> {
     /// Collects into `out` (cleared first) the items whose point `p` satisfies
     /// `|p − center|² < radius²` (**strict**, squared distance summed over x, y, z in that
     /// order, as Kratos' `SearchInRadius`), at most `max_results` of them.
@@ -45,6 +45,7 @@ impl<T: Copy> KdTree<T> {
         }
         let mut search = RadiusSearch {
             tree: self,
+            arena: self.arena(),
             center,
             radius2: radius * radius,
             max_results,
@@ -61,23 +62,25 @@ impl<T: Copy> KdTree<T> {
 /// The state of one radius query.
 struct RadiusSearch<'a, T> {
     tree: &'a KdTree<T>,
+    /// The arena `visit`'s nodes are in: the tree's, or a deferred subtree's.
+    arena: Arena<'a, T>,
     center: &'a Point,
     radius2: Real,
     max_results: usize,
     out: &'a mut Vec<T>,
 }
 
-impl<T: Copy> RadiusSearch<'_, T> {
+impl<T: Copy + Send> RadiusSearch<'_, T> {
     /// Visits the subtree `node`; `residual[k]` is a lower bound of the squared distance along
     /// axis `k` from the centre to any point of the subtree. Breaks when a hit beyond the cap
     /// is found (truncation).
     fn visit(&mut self, node: u32, residual: &mut [Real; 3]) -> ControlFlow<()> {
-        match self.tree.nodes[node as usize] {
+        match self.arena.nodes[node as usize] {
             Node::Leaf { start, end } => {
                 let (start, end) = (start as usize, end as usize);
-                for (item, p) in self.tree.items[start..end]
+                for (item, p) in self.arena.items[start..end]
                     .iter()
-                    .zip(&self.tree.points[start..end])
+                    .zip(&self.arena.points[start..end])
                 {
                     if distance2(p, self.center) < self.radius2 {
                         if self.out.len() >= self.max_results {
@@ -114,6 +117,13 @@ impl<T: Copy> RadiusSearch<'_, T> {
                 }
                 residual[axis] = saved;
                 ControlFlow::Continue(())
+            }
+            Node::Deferred { slot, start, end } => {
+                let outer = self.arena;
+                self.arena = self.tree.subtree(slot, start, end).arena();
+                let flow = self.visit(0, residual);
+                self.arena = outer;
+                flow
             }
         }
     }
