@@ -84,7 +84,8 @@ const MASTERS_PER_BLOCK: usize = 64;
 
 /// Data of one step per master-side condition (the kd-tree's points), computed when a query
 /// first asks for it, a block of [`MASTERS_PER_BLOCK`] consecutive masters at a time (the
-/// blocks no slave query reaches cost nothing but their slots), and kept for the step: a slot
+/// blocks no slave query reaches cost nothing but their slots; the step lists the masters in
+/// the kd-tree's order, so that a block lies in one region of space), and kept for the step: a slot
 /// per condition index, the values only for the masters. A value is a function of its master
 /// alone, so which query computes it first does not matter.
 pub(crate) struct PerMaster<'a, T> {

@@ -1446,7 +1446,14 @@ fn kdtree_search(
     // Master boxes, once per step (Kratos rebuilds one per candidate); No/DirectCheck build
     // them with build_from_bounding_box = true (Q4). Allocated only for the OBB test.
     let master_bfb = p.check_gap != CheckGap::MappingCheck || p.octree.build_from_bounding_box;
-    let masters: Vec<ConditionIdx> = points.iter().map(|(c, _)| ConditionIdx(*c)).collect();
+    // In the tree's stored order: a block of consecutive masters lies in one region of space,
+    // so a query near a few masters computes the boxes of its neighbours, not of masters
+    // anywhere (the conditions' own order need not be spatial).
+    let masters: Vec<ConditionIdx> = tree
+        .stored_items()
+        .iter()
+        .map(|&c| ConditionIdx(c))
+        .collect();
     // Built when first asked for by a query, which holds the model: both are dropped before
     // the pairing changes it.
     let shared: &ModelPart = model;

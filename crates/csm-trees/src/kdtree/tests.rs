@@ -445,7 +445,18 @@ fn deferred_subtrees_give_the_built_tree() {
             }
             let entries = |t: &KdTree<usize>| t.iter().map(|(i, x)| (*i, *x)).collect::<Vec<_>>();
             assert_eq!(entries(&tree), entries(&full), "order before settling");
+            // Stored order: the built tree's, except within each deferred range (same set).
+            let mut stored = tree.stored_items().to_vec();
+            let mut settled = full.stored_items().to_vec();
+            for node in &tree.nodes {
+                if let Node::Deferred { start, end, .. } = *node {
+                    stored[start as usize..end as usize].sort_unstable();
+                    settled[start as usize..end as usize].sort_unstable();
+                }
+            }
+            assert_eq!(stored, settled, "stored order, defer_max {defer_max}");
             tree.settle();
+            assert_eq!(tree.stored_items(), full.stored_items());
             assert!(!tree.has_deferred());
             assert_eq!(
                 (

@@ -402,6 +402,14 @@ impl<T> KdTree<T> {
         self.nodes.len()
     }
 
+    /// The items in their stored order, which groups them in space: a settled tree's leaves
+    /// left to right; the items of a subtree not built yet ([`KdTree::new_deferred`]) are
+    /// together, in the order the split above it left them. ([`KdTree::iter`] gives the
+    /// settled order, building the deferred subtrees.)
+    pub fn stored_items(&self) -> &[T] {
+        &self.items
+    }
+
     /// Whether some subtree is still deferred ([`KdTree::new_deferred`]).
     pub fn has_deferred(&self) -> bool {
         !self.deferred.is_empty()
