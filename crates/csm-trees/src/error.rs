@@ -37,6 +37,8 @@ pub enum ErrorKind {
     /// The octree was refined after objects had been inserted (refine first, then insert,
     /// as Kratos inserts nodes before conditions).
     RefineAfterInsert,
+    /// A tree was given item and point lists of different lengths.
+    LengthMismatch,
 }
 
 impl Error {
@@ -80,6 +82,9 @@ impl fmt::Display for Error {
                 "invalid octree levels (need min_level < root_level < max_level <= 31)"
             ),
             ErrorKind::OutsideRootBox => write!(f, "the point lies outside the octree root box"),
+            ErrorKind::LengthMismatch => {
+                write!(f, "the item and point lists differ in length")
+            }
             ErrorKind::RefineAfterInsert => {
                 write!(
                     f,

@@ -1388,44 +1388,54 @@ fn kdtree_search(
     let dim = usize::from(pair.instance.dim);
     let check = !inverted || !p.predefined_master_slave;
     let conditions = conditions_by_id(model, sub);
-    let points: Vec<(u32, csm_geometry::math::Point)> = conditions
-        .par_iter()
-        .filter(|c| model.conditions().flags()[c.index()].is(Flag::MASTER) == check)
-        .map(|c| {
-            let nodes = model.conditions().nodes(c.index());
-            let mut center = csm_geometry::math::Point::origin();
-            for n in nodes {
-                center.coords += model.nodes().coordinates()[n.index()].coords;
-            }
-            (
-                c.get(),
-                csm_geometry::math::Point::from(center.coords / nodes.len() as Real),
-            )
-        })
+    // The masters in id order and their centres, in two lists the tree takes as its own (no
+    // list of pairs to copy: fresh memory is a large part of this stage's cost).
+    let flags = model.conditions().flags();
+    let master_list: Vec<u32> = conditions
+        .iter()
+        .filter(|c| flags[c.index()].is(Flag::MASTER) == check)
+        .map(|c| c.get())
         .collect();
+    let centres_of = |list: &[u32]| -> Vec<Point> {
+        let coords = model.nodes().coordinates();
+        list.par_iter()
+            .map(|&c| {
+                let nodes = model.conditions().nodes(c as usize);
+                let mut center = Point::origin();
+                for n in nodes {
+                    center.coords += coords[n.index()].coords;
+                }
+                Point::from(center.coords / nodes.len() as Real)
+            })
+            .collect()
+    };
+    let centres = centres_of(&master_list);
     crate::trace::mark("master centres");
     let tree_error = |e: csm_trees::Error| {
         Error::from(ErrorKind::Model(format!(
             "kd-tree of the master conditions: {e}"
         )))
     };
+    let new_tree = |list: Vec<u32>, centres: Vec<Point>| {
+        KdTree::from_parts(list, centres, p.bucket_size, TREE_DEFER_MAX).map_err(tree_error)
+    };
     let order_free = p.check_gap != CheckGap::DirectCheck || compatibility == Compatibility::Robust;
-    let ids: Vec<u32> = points.iter().map(|(c, _)| *c).collect();
+    // Kept only for a multi-step run: the next step refits the tree if its masters are these.
+    let ids: Vec<u32> = if keep_tree {
+        master_list.clone()
+    } else {
+        Vec::new()
+    };
     let (mut tree, refitted) = match pair.tree.take() {
         Some(mut kept) if keep_tree && order_free && kept.ids == ids => {
-            let mut centers = vec![Point::origin(); model.conditions().len()];
-            for (c, x) in &points {
-                centers[*c as usize] = *x;
+            let mut at = vec![Point::origin(); model.conditions().len()];
+            for (&c, x) in master_list.iter().zip(&centres) {
+                at[c as usize] = *x;
             }
-            kept.tree
-                .refit(|c| centers[c as usize])
-                .map_err(tree_error)?;
+            kept.tree.refit(|c| at[c as usize]).map_err(tree_error)?;
             (kept.tree, true)
         }
-        _ => (
-            KdTree::new_deferred(&points, p.bucket_size, TREE_DEFER_MAX).map_err(tree_error)?,
-            false,
-        ),
+        _ => (new_tree(master_list, centres)?, false),
     };
     crate::trace::mark("kd-tree");
     // Read in place: the model is only read until the serial pairing below.
@@ -1581,8 +1591,10 @@ fn kdtree_search(
         if refitted && truncated {
             // A capped query keeps the first masters in traversal order: take a rebuilt
             // tree's order, as a step without a kept tree does.
-            tree =
-                KdTree::new_deferred(&points, p.bucket_size, TREE_DEFER_MAX).map_err(tree_error)?;
+            let mut by_id: Vec<u32> = tree.stored_items().to_vec();
+            by_id.sort_unstable_by_key(|&c| model.conditions().ids()[c as usize]);
+            let centres = centres_of(&by_id);
+            tree = new_tree(by_id, centres)?;
             (order, chunks, _) = query_all(&tree);
         }
         SlaveCandidates::in_slave_order(&order, chunks)

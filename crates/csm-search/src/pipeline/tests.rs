@@ -955,3 +955,35 @@ fn pruned_entries_group_by_slave_with_ascending_masters() {
     assert_eq!(naive[&2], [1, 9, 9]);
     assert!(super::by_slave(&[]).is_empty());
 }
+
+/// A refitted kd-tree whose queries reach the result cap is rebuilt from the masters in id
+/// order, so every step finds what a step with a freshly built tree finds (and without the
+/// cap the refitted tree finds the same pairs).
+#[test]
+fn a_capped_refitted_tree_gives_the_rebuilt_trees_pairs() {
+    for cap in [2, 1000] {
+        let steps = |refit: bool| {
+            let mut model = plates(6, 0.01, false);
+            let s = setup(
+                &format!(r#"{{"max_number_results": {cap}, "search_factor": 6.0}}"#),
+                &format!(
+                    r#", "refit_tree": {refit}, "steps": [
+                    {{"delta_time": 1, "move": {{"Slave": {{"translate": [0.01, 0, -0.002]}}}}}},
+                    {{"delta_time": 1, "move": {{"Slave": {{"translate": [0.02, 0.01, -0.002]}}}}}}]"#
+                ),
+            );
+            let mut search = ContactSearch::initialize(&mut model, &s).unwrap();
+            let mut all = Vec::new();
+            for step in &s.steps {
+                search.advance(&mut model, step).unwrap();
+                let r = search.step(&mut model).unwrap();
+                all.push(r.pairs.clone());
+                search.finalize_step(&mut model).unwrap();
+            }
+            all
+        };
+        let (refitted, rebuilt) = (steps(true), steps(false));
+        assert!(refitted.iter().all(|p| !p["0"].is_empty()), "cap {cap}");
+        assert_eq!(refitted, rebuilt, "cap {cap}");
+    }
+}

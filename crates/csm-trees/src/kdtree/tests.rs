@@ -477,6 +477,13 @@ fn deferred_subtrees_give_the_built_tree() {
             );
             check_invariants(&tree);
         }
+        // The owning constructor is the copying one.
+        let (items, points): (Vec<usize>, Vec<Point>) = cloud.iter().copied().unzip();
+        let mut owned = KdTree::from_parts(items.clone(), points.clone(), bucket, 64).unwrap();
+        owned.settle();
+        assert_eq!((&owned.nodes, &owned.items), (&full.nodes, &full.items));
+        let short = KdTree::from_parts(items[1..].to_vec(), points, bucket, 64);
+        assert_eq!(short.unwrap_err().kind(), &ErrorKind::LengthMismatch);
         // Settling without a query builds every subtree; a rebuild of moved points and a
         // refit start from the settled order, as the built tree's do.
         let mut tree = KdTree::new_deferred(&cloud, bucket, 64).unwrap();

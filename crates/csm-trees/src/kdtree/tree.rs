@@ -131,6 +131,39 @@ impl<T: Copy + Send> KdTree<T> {
         Ok(tree)
     }
 
+    /// [`KdTree::new_deferred`] over the entries `(items[i], points[i])`, taking the two
+    /// lists as its own storage instead of copying them.
+    ///
+    /// Errors: those of [`KdTree::new`], and [`ErrorKind::LengthMismatch`] for lists of
+    /// different lengths.
+    pub fn from_parts(
+        items: Vec<T>,
+        points: Vec<Point>,
+        bucket_size: usize,
+        defer_max: usize,
+    ) -> Result<KdTree<T>, Error> {
+        if items.len() != points.len() {
+            return Err(Error::new(ErrorKind::LengthMismatch));
+        }
+        check_len(points.len())?;
+        for p in &points {
+            check_point(p, "point")?;
+        }
+        let mut tree = KdTree {
+            items,
+            points,
+            nodes: Vec::new(),
+            root: None,
+            extent: None,
+            bucket_size: KRATOS_BUCKET_SIZE,
+            defer_max,
+            deferred: Vec::new(),
+        };
+        tree.set_bucket_size(bucket_size)?;
+        tree.build_in_place();
+        Ok(tree)
+    }
+
     /// [`KdTree::new`] with Kratos' default bucket size 4.
     pub fn with_kratos_bucket_size(entries: &[(T, Point)]) -> Result<KdTree<T>, Error> {
         KdTree::new(entries, KRATOS_BUCKET_SIZE)
