@@ -942,7 +942,8 @@ fn normal_gap_process_inner(
         let data = model.nodal_data_mut();
         data.add_scalar(ScalarVar::NormalGap);
         data.add_scalar(ScalarVar::NodalArea);
-        data.add_vector(VectorVar::AuxiliarCoordinates);
+        // AUXILIAR_COORDINATES: computed below and moved in at the end (no column of zeros
+        // to write first and copy into afterwards).
         if let Some(col) = data.scalar_mut(ScalarVar::NormalGap, 0) {
             for n in &sub_nodes {
                 col[n.index()] = NORMAL_GAP_SENTINEL;
@@ -1161,8 +1162,7 @@ fn normal_gap_process_inner(
             col[n.index()] = area[j];
         }
     }
-    if let Some(col) = data.vector_mut(VectorVar::AuxiliarCoordinates, 0) {
-        col.copy_from_slice(&aux);
-    }
+    data.set_vector(VectorVar::AuxiliarCoordinates, aux)
+        .map_err(|_| Error::message_only("AUXILIAR_COORDINATES: not one value per node".into()))?;
     Ok((report, known))
 }

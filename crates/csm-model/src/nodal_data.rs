@@ -214,6 +214,25 @@ impl NodalData {
         self.vectors.get_mut(&var)?.get_mut(step)
     }
 
+    /// Sets the current values (buffer step 0) of `var` to `values`, by node index, moving
+    /// them in; the variable is added first if absent (its other buffer steps zero).
+    /// `values` comes back, and nothing changes, if it does not hold one value per node.
+    pub fn set_vector(&mut self, var: VectorVar, values: Vec<Vector>) -> Result<(), Vec<Vector>> {
+        if values.len() != self.n_nodes {
+            return Err(values);
+        }
+        let n = self.n_nodes;
+        let steps = Self::steps_of(var.is_historical());
+        let columns = self.vectors.entry(var).or_insert_with(|| {
+            let mut columns = vec![Vec::new()];
+            columns.resize_with(steps, || vec![Vector::zeros(); n]);
+            columns
+        });
+        columns[0] = values;
+        self.renew(var);
+        Ok(())
+    }
+
     /// Takes the values of `var` at `step` out (leaving none), for
     /// [`ModelPart::with_vector_mut`](crate::ModelPart::with_vector_mut), which puts them back.
     pub(crate) fn take_vector(&mut self, var: VectorVar, step: usize) -> Option<Vec<Vector>> {

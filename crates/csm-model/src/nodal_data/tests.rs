@@ -95,3 +95,32 @@ fn a_vector_stamp_follows_the_writes() {
     }
     assert_eq!(clone.vector_stamp(VectorVar::Normal), added);
 }
+
+/// `set_vector` moves one value per node in as step 0, adding an absent variable with its
+/// other buffer steps zero, renews the stamp, and hands a list of the wrong length back.
+#[test]
+fn set_vector_moves_the_values_in() {
+    let mut d = NodalData::default();
+    d.resize(2);
+    let v = |x: f64| Vector::new(x, 0.0, 0.0);
+    assert_eq!(
+        d.set_vector(VectorVar::Normal, vec![v(1.0)]),
+        Err(vec![v(1.0)])
+    );
+    assert!(d.vector(VectorVar::Normal, 0).is_none(), "nothing added");
+    d.set_vector(VectorVar::Normal, vec![v(1.0), v(2.0)])
+        .unwrap();
+    assert_eq!(d.vector(VectorVar::Normal, 0).unwrap(), &[v(1.0), v(2.0)]);
+    assert_eq!(d.vector(VectorVar::Normal, 1).unwrap(), &[v(0.0), v(0.0)]);
+    d.set_vector(VectorVar::AuxiliarCoordinates, vec![v(3.0), v(4.0)])
+        .unwrap();
+    assert!(d.vector(VectorVar::AuxiliarCoordinates, 1).is_none());
+    let stamp = d.vector_stamp(VectorVar::AuxiliarCoordinates);
+    d.set_vector(VectorVar::AuxiliarCoordinates, vec![v(5.0), v(6.0)])
+        .unwrap();
+    assert_ne!(d.vector_stamp(VectorVar::AuxiliarCoordinates), stamp);
+    assert_eq!(
+        d.vector(VectorVar::AuxiliarCoordinates, 0).unwrap(),
+        &[v(5.0), v(6.0)]
+    );
+}
