@@ -122,8 +122,15 @@ fn mean_nodal_h(model: &ModelPart, nodes: &[NodeIdx]) -> Real {
 /// The Advanced search's `DISTANCE_THRESHOLD` (§10.1): `max(mean NODAL_H of the slave side,
 /// mean NODAL_H of the master side)` of ContactSub `sub`.
 pub fn mean_h(model: &ModelPart, sub: PartIdx, inverted: bool) -> Real {
-    let s = sides(model, sub, inverted);
-    mean_nodal_h(model, &s.slave_nodes).max(mean_nodal_h(model, &s.master_nodes))
+    // The sides' nodes only (not their conditions, which `sides` sorts by id).
+    let nflags = model.nodes().flags();
+    let side = |flag: Flag| -> Vec<NodeIdx> {
+        let nodes = model.part(sub).nodes().iter().copied();
+        nodes
+            .filter(|n| nflags[n.index()].is(flag) != inverted)
+            .collect()
+    };
+    mean_nodal_h(model, &side(Flag::SLAVE)).max(mean_nodal_h(model, &side(Flag::MASTER)))
 }
 
 /// Geometry points, condition normal and nodal (historical) normals of a condition.
