@@ -72,10 +72,10 @@ fn number_deferred(nodes: &mut [Node], node: u32, next: &mut u32) {
 
 /// A range of the two parallel arrays, swapped together; `base` is the position of its first
 /// entry in the whole arrays.
-struct Entries<'a, T> {
-    items: &'a mut [T],
-    points: &'a mut [Point],
-    base: usize,
+pub(super) struct Entries<'a, T> {
+    pub(super) items: &'a mut [T],
+    pub(super) points: &'a mut [Point],
+    pub(super) base: usize,
 }
 
 impl<'a, T> Entries<'a, T> {
@@ -142,7 +142,7 @@ fn build_range<T: Send>(
     }
     let axis = widest_axis(entries.points);
     let m = n / 2;
-    select(&mut entries, m, axis);
+    select_blocks(&mut entries, m, axis);
     let cut = cut_value(&entries, m, axis);
     // Placeholder, filled once the children exist.
     nodes.push(Node::Leaf { start: 0, end: 0 });
@@ -212,7 +212,8 @@ fn widest_axis(points: &[Point]) -> usize {
 /// Kratos' Hoare-style quickselect on `axis` over the whole range: afterwards position `m` holds the
 /// value it would hold in sorted order, everything before it is `<=` and everything after it
 /// `>=` (reference §6.1, reproduced step by step so that the permutation matches Kratos').
-fn select<T>(entries: &mut Entries<'_, T>, m: usize, axis: usize) {
+#[cfg_attr(not(test), allow(dead_code))]
+pub(super) fn select<T>(entries: &mut Entries<'_, T>, m: usize, axis: usize) {
     let mut left = 0;
     let mut right = entries.len() - 1;
     while left < right {
@@ -243,6 +244,84 @@ fn select<T>(entries: &mut Entries<'_, T>, m: usize, axis: usize) {
                 break;
             }
         }
+        entries.swap(left, j);
+        if j > m {
+            right = j - 1;
+        } else if j < m {
+            left = j + 1;
+        } else {
+            break;
+        }
+    }
+}
+
+/// Positions scanned per block by [`select_blocks`].
+const SCAN_BLOCK: usize = 64;
+
+/// [`select`], with the same swaps in the same order (so the same permutation), found
+/// without its data-dependent scan branches: each partition pass lists, a block at a time
+/// and without branches, the positions its left scan stops at (`v >= pivot`, ascending from
+/// `left + 1`) and those its right scan stops at (`v <= pivot`, descending from
+/// `right − 1`). Hoare's pass swaps the `k`-th of each while the left one is before the right
+/// one; at the first pair where it is not, the scans have crossed and the pass ends at
+/// `j = max(R[k], L[k − 1])` (`L[−1] = left`). Until the crossing, the positions between the
+/// last two stops were never swapped, so listing them from their current values finds the
+/// scans' stops; past it, a listed position only decides that the pass ends, which it does
+/// whatever the value there (a swapped position stops either scan).
+pub(super) fn select_blocks<T>(entries: &mut Entries<'_, T>, m: usize, axis: usize) {
+    let mut left = 0;
+    let mut right = entries.len() - 1;
+    let mut lbuf = [0usize; SCAN_BLOCK];
+    let mut rbuf = [0usize; SCAN_BLOCK];
+    while left < right {
+        if entries.v(left, axis) > entries.v(right, axis) {
+            entries.swap(left, right);
+        }
+        let pivot = entries.v(left, axis);
+        // Next position to list on each side, and the listed stops not yet paired.
+        let (mut lnext, mut rnext) = (left + 1, right as isize - 1);
+        let (mut lbeg, mut lend, mut rbeg, mut rend) = (0, 0, 0, 0);
+        // The previous left stop (`left` before the first).
+        let mut last_l = left;
+        let j = loop {
+            if lbeg == lend {
+                // `v(right) >= pivot`: the list ends there at the latest.
+                lbeg = 0;
+                lend = 0;
+                let stop = (lnext + SCAN_BLOCK).min(right + 1);
+                for p in lnext..stop {
+                    lbuf[lend] = p;
+                    lend += usize::from(entries.v(p, axis) >= pivot);
+                }
+                lnext = stop;
+            }
+            if rbeg == rend {
+                // `v(left) == pivot`: the list ends there at the latest.
+                rbeg = 0;
+                rend = 0;
+                let stop = (rnext - SCAN_BLOCK as isize).max(left as isize - 1);
+                let mut p = rnext;
+                while p > stop {
+                    rbuf[rend] = p as usize;
+                    rend += usize::from(entries.v(p as usize, axis) <= pivot);
+                    p -= 1;
+                }
+                rnext = stop;
+            }
+            if lbeg == lend || rbeg == rend {
+                // A block without a stop: list the next one.
+                continue;
+            }
+            let (l, r) = (lbuf[lbeg], rbuf[rbeg]);
+            if l < r {
+                entries.swap(l, r);
+                last_l = l;
+                lbeg += 1;
+                rbeg += 1;
+            } else {
+                break r.max(last_l);
+            }
+        };
         entries.swap(left, j);
         if j > m {
             right = j - 1;

@@ -501,3 +501,63 @@ fn deferred_subtrees_give_the_built_tree() {
         assert_eq!((&tree.nodes, &tree.items), (&built.nodes, &built.items));
     }
 }
+
+/// The block-listing quickselect makes Kratos' swaps: the same permutation as the scalar
+/// quickselect for every target position, on inputs with many ties, sorted, reversed and
+/// constant runs, of sizes around the scan block.
+#[test]
+fn block_select_is_the_scalar_quickselect() {
+    use super::build::{Entries, select, select_blocks};
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = move |k: u64| {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 33) % k
+    };
+    let mut cases: Vec<Vec<Real>> = Vec::new();
+    for n in [1, 2, 3, 4, 5, 7, 63, 64, 65, 127, 128, 129, 200, 1000, 3001] {
+        for levels in [2, 5, 1000, 1 << 30] {
+            cases.push((0..n).map(|_| next(levels) as Real).collect());
+        }
+        cases.push((0..n).map(|i| i as Real).collect());
+        cases.push((0..n).map(|i| -(i as Real)).collect());
+        cases.push(vec![1.5; n]);
+        cases.push((0..n).map(|i| ((i * 37) % 11) as Real).collect());
+    }
+    for values in cases {
+        let n = values.len();
+        let targets: Vec<usize> = if n <= 130 {
+            (0..n).collect()
+        } else {
+            vec![0, 1, n / 3, n / 2, n - 2, n - 1]
+        };
+        for m in targets {
+            for axis in [0, 2] {
+                let run = |block: bool| {
+                    let mut items: Vec<usize> = (0..n).collect();
+                    let mut points: Vec<Point> = values
+                        .iter()
+                        .map(|&v| {
+                            let mut x = p(0.0, 0.0, 0.0);
+                            x[axis] = v;
+                            x
+                        })
+                        .collect();
+                    let mut entries = Entries {
+                        items: &mut items,
+                        points: &mut points,
+                        base: 0,
+                    };
+                    if block {
+                        select_blocks(&mut entries, m, axis);
+                    } else {
+                        select(&mut entries, m, axis);
+                    }
+                    items
+                };
+                assert_eq!(run(true), run(false), "n {n}, m {m}, values {values:?}");
+            }
+        }
+    }
+}
