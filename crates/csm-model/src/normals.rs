@@ -875,6 +875,24 @@ impl UnitNormalsSnapshot {
         &self.nodal
     }
 
+    /// Puts the kept `NORMAL` back as the whole column (every node; no pass over the part):
+    /// the same as [`UnitNormalsSnapshot::restore`] where, since the snapshot, `NORMAL` changed
+    /// only on nodes of the part's conditions (e.g. the mapping's mean normals, which it
+    /// writes on the nodes of the part's conditions only). Nothing happens if the model lost
+    /// its `NORMAL`; where its nodes changed in number, this is [`UnitNormalsSnapshot::restore`].
+    pub fn restore_all(self, model: &mut ModelPart) {
+        if model.nodal_data().vector(VectorVar::Normal, 0).is_none() {
+            return;
+        }
+        let part = self.part;
+        if let Err(nodal) = model
+            .nodal_data_mut()
+            .set_vector(VectorVar::Normal, self.nodal)
+        {
+            UnitNormalsSnapshot { part, nodal }.restore(model);
+        }
+    }
+
     /// Writes the kept `NORMAL` of the nodes of the part's conditions back.
     pub fn restore(self, model: &mut ModelPart) {
         let mut written = vec![false; model.nodes().len()];

@@ -444,3 +444,37 @@ fn a_current_kept_table_gives_what_computing_gives() {
         assert!(!used && same(&m, &changed));
     }
 }
+
+/// `restore_all` puts the whole kept column back: what `restore` writes where `NORMAL`
+/// changed only on nodes of the part's conditions since the snapshot (and the stamp moves).
+#[test]
+fn restoring_the_whole_snapshot_is_restoring_the_part() {
+    let pts = [
+        [0., 0., 0.],
+        [1., 0., 0.],
+        [0., 1., 0.],
+        [5., 0., 0.],
+        [6., 0., 0.],
+        [5., 0., 1.],
+    ];
+    let t = GeometryKind::Triangle3D3;
+    let mut mp = model(&pts, &[(t, &[1, 2, 3]), (t, &[4, 5, 6])]);
+    let part = mp.create_part("first").unwrap();
+    mp.add_conditions_to_part(part, &[ConditionIdx(0)]);
+    compute_unit_normals(&mut mp, None, NormalsMode::Kratos).unwrap();
+    let snapshot = UnitNormalsSnapshot::take(&mp, Some(part)).unwrap();
+    // Changed on nodes of the part's condition only (nodes 0 and 2).
+    let col = mp
+        .nodal_data_mut()
+        .vector_mut(VectorVar::Normal, 0)
+        .unwrap();
+    col[0] = Vector::new(0.3, 0.4, 0.5);
+    col[2] = Vector::zeros();
+    let (mut by_part, mut whole) = (mp.clone(), mp);
+    snapshot.clone().restore(&mut by_part);
+    let stamp = whole.nodal_data().vector_stamp(VectorVar::Normal);
+    snapshot.restore_all(&mut whole);
+    assert_eq!(nodal(&whole), nodal(&by_part));
+    assert_close(&nodal(&whole)[0], [0., 0., 1.]);
+    assert_ne!(whole.nodal_data().vector_stamp(VectorVar::Normal), stamp);
+}

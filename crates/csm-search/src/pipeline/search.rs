@@ -1091,7 +1091,9 @@ fn check_pairing(
         Compatibility::Robust => NormalsMode::Once,
     };
     match unit_normals {
-        Some(kept) => kept.restore(model),
+        // The mapping changed NORMAL only on nodes of the part's conditions (its mean
+        // normals): the kept column is the restored one.
+        Some(kept) => kept.restore_all(model),
         None => drop(compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?),
     }
     crate::trace::mark("unit normals");
