@@ -108,8 +108,8 @@ fn opposite_faces_cancel_into_an_error() {
     ));
 }
 
-#[test]
-fn only_the_given_part_is_computed() {
+/// Two triangles, the first (in the z = 0 plane) alone in the part "first".
+fn two_triangles_first_in_part() -> (ModelPart, PartIdx) {
     let pts = [
         [0., 0., 0.],
         [1., 0., 0.],
@@ -122,6 +122,12 @@ fn only_the_given_part_is_computed() {
     let mut mp = model(&pts, &[(t, &[1, 2, 3]), (t, &[4, 5, 6])]);
     let part = mp.create_part("first").unwrap();
     mp.add_conditions_to_part(part, &[ConditionIdx(0)]);
+    (mp, part)
+}
+
+#[test]
+fn only_the_given_part_is_computed() {
+    let (mut mp, part) = two_triangles_first_in_part();
     compute_unit_normals(&mut mp, Some(part), NormalsMode::Kratos).unwrap();
     assert_close(&mp.condition_normals()[0], [0., 0., 1.]);
     assert_close(&mp.condition_normals()[1], [0., 0., 0.]);
@@ -449,18 +455,7 @@ fn a_current_kept_table_gives_what_computing_gives() {
 /// changed only on nodes of the part's conditions since the snapshot (and the stamp moves).
 #[test]
 fn restoring_the_whole_snapshot_is_restoring_the_part() {
-    let pts = [
-        [0., 0., 0.],
-        [1., 0., 0.],
-        [0., 1., 0.],
-        [5., 0., 0.],
-        [6., 0., 0.],
-        [5., 0., 1.],
-    ];
-    let t = GeometryKind::Triangle3D3;
-    let mut mp = model(&pts, &[(t, &[1, 2, 3]), (t, &[4, 5, 6])]);
-    let part = mp.create_part("first").unwrap();
-    mp.add_conditions_to_part(part, &[ConditionIdx(0)]);
+    let (mut mp, part) = two_triangles_first_in_part();
     compute_unit_normals(&mut mp, None, NormalsMode::Kratos).unwrap();
     let snapshot = UnitNormalsSnapshot::take(&mp, Some(part)).unwrap();
     // Changed on nodes of the part's condition only (nodes 0 and 2).

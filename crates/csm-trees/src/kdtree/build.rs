@@ -172,13 +172,8 @@ fn build_range<T: Send>(
 /// links, and returns the subtree's root index in `nodes`.
 fn append(nodes: &mut Vec<Node>, sub: Vec<Node>) -> u32 {
     let offset = nodes.len() as u32;
-    nodes.extend(sub.into_iter().map(|mut node| {
-        if let Node::Inner { left, right, .. } = &mut node {
-            *left += offset;
-            *right += offset;
-        }
-        node
-    }));
+    // The leaves' entry ranges are already the whole arrays'.
+    nodes.extend(sub.into_iter().map(|node| node.shifted(offset, 0)));
     offset
 }
 

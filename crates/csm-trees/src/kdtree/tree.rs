@@ -36,6 +36,24 @@ pub(crate) enum Node {
     Deferred { slot: u32, start: u32, end: u32 },
 }
 
+impl Node {
+    /// The node of an arena appended at `nodes` over entries placed from `entries`: its
+    /// child links and its entry range moved by those offsets.
+    pub(crate) fn shifted(mut self, nodes: u32, entries: u32) -> Node {
+        match &mut self {
+            Node::Leaf { start, end } | Node::Deferred { start, end, .. } => {
+                *start += entries;
+                *end += entries;
+            }
+            Node::Inner { left, right, .. } => {
+                *left += nodes;
+                *right += nodes;
+            }
+        }
+        self
+    }
+}
+
 /// A deferred subtree once built: its entries (the range's, permuted by the build) and its
 /// arena (root at 0; its leaves index its own entries).
 #[derive(Debug, Clone)]
@@ -116,17 +134,7 @@ impl<T: Copy + Send> KdTree<T> {
         bucket_size: usize,
         defer_max: usize,
     ) -> Result<KdTree<T>, Error> {
-        let mut tree = KdTree {
-            items: Vec::new(),
-            points: Vec::new(),
-            nodes: Vec::new(),
-            root: None,
-            extent: None,
-            bucket_size: KRATOS_BUCKET_SIZE,
-            defer_max,
-            deferred: Vec::new(),
-        };
-        tree.set_bucket_size(bucket_size)?;
+        let mut tree = KdTree::empty(bucket_size, defer_max)?;
         tree.rebuild(entries)?;
         Ok(tree)
     }
@@ -145,13 +153,22 @@ impl<T: Copy + Send> KdTree<T> {
         if items.len() != points.len() {
             return Err(Error::new(ErrorKind::LengthMismatch));
         }
+        let mut tree = KdTree::empty(bucket_size, defer_max)?;
         check_len(points.len())?;
         for p in &points {
             check_point(p, "point")?;
         }
+        tree.items = items;
+        tree.points = points;
+        tree.build_in_place();
+        Ok(tree)
+    }
+
+    /// An empty tree with these sizes.
+    fn empty(bucket_size: usize, defer_max: usize) -> Result<KdTree<T>, Error> {
         let mut tree = KdTree {
-            items,
-            points,
+            items: Vec::new(),
+            points: Vec::new(),
             nodes: Vec::new(),
             root: None,
             extent: None,
@@ -160,7 +177,6 @@ impl<T: Copy + Send> KdTree<T> {
             deferred: Vec::new(),
         };
         tree.set_bucket_size(bucket_size)?;
-        tree.build_in_place();
         Ok(tree)
     }
 
@@ -347,25 +363,14 @@ impl<T: Copy + Send> Settle<'_, T> {
         let index = self.nodes.len() as u32;
         match self.old[node as usize] {
             leaf @ Node::Leaf { .. } => self.nodes.push(leaf),
-            Node::Inner {
-                axis,
-                cut,
-                left_max,
-                right_min,
-                left,
-                right,
-            } => {
-                self.nodes.push(leaf_placeholder());
-                let left = self.node(left);
-                let right = self.node(right);
-                self.nodes[index as usize] = Node::Inner {
-                    axis,
-                    cut,
-                    left_max,
-                    right_min,
-                    left,
-                    right,
-                };
+            inner @ Node::Inner { left, right, .. } => {
+                // Its links are the old arena's until its children are copied.
+                self.nodes.push(inner);
+                let new_left = self.node(left);
+                let new_right = self.node(right);
+                if let Node::Inner { left, right, .. } = &mut self.nodes[index as usize] {
+                    (*left, *right) = (new_left, new_right);
+                }
             }
             Node::Deferred { slot, start, end } => {
                 let range = start as usize..end as usize;
@@ -381,36 +386,11 @@ impl<T: Copy + Send> Settle<'_, T> {
                 self.items[range.clone()].copy_from_slice(&sub.items);
                 self.points[range].copy_from_slice(&sub.points);
                 self.nodes
-                    .extend(sub.nodes.into_iter().map(|node| match node {
-                        Node::Leaf { start: s, end: e } => Node::Leaf {
-                            start: s + start,
-                            end: e + start,
-                        },
-                        Node::Inner {
-                            axis,
-                            cut,
-                            left_max,
-                            right_min,
-                            left,
-                            right,
-                        } => Node::Inner {
-                            axis,
-                            cut,
-                            left_max,
-                            right_min,
-                            left: left + index,
-                            right: right + index,
-                        },
-                        deferred @ Node::Deferred { .. } => deferred,
-                    }));
+                    .extend(sub.nodes.into_iter().map(|node| node.shifted(index, start)));
             }
         }
         index
     }
-}
-
-fn leaf_placeholder() -> Node {
-    Node::Leaf { start: 0, end: 0 }
 }
 
 impl<T> KdTree<T> {
