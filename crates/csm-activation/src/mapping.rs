@@ -108,29 +108,26 @@ pub(crate) fn sides(model: &ModelPart, sub: PartIdx, inverted: bool) -> Sides {
     }
 }
 
-/// Σ NODAL_H / count over `nodes` (0 for none).
-fn mean_nodal_h(model: &ModelPart, nodes: &[NodeIdx]) -> Real {
+/// The Advanced search's `DISTANCE_THRESHOLD` (§10.1): `max(mean NODAL_H of the slave side,
+/// mean NODAL_H of the master side)` of ContactSub `sub` (a side without nodes, or a model
+/// without NODAL_H, counts 0). Reads the sides' nodes in the part's order, without listing
+/// them.
+pub fn mean_h(model: &ModelPart, sub: PartIdx, inverted: bool) -> Real {
     let Some(h) = model.nodal_data().scalar(ScalarVar::NodalH, 0) else {
         return 0.0;
     };
-    if nodes.is_empty() {
-        return 0.0;
-    }
-    nodes.iter().map(|n| h[n.index()]).sum::<Real>() / nodes.len() as Real
-}
-
-/// The Advanced search's `DISTANCE_THRESHOLD` (§10.1): `max(mean NODAL_H of the slave side,
-/// mean NODAL_H of the master side)` of ContactSub `sub`.
-pub fn mean_h(model: &ModelPart, sub: PartIdx, inverted: bool) -> Real {
-    // The sides' nodes only (not their conditions, which `sides` sorts by id).
     let nflags = model.nodes().flags();
-    let side = |flag: Flag| -> Vec<NodeIdx> {
-        let nodes = model.part(sub).nodes().iter().copied();
-        nodes
-            .filter(|n| nflags[n.index()].is(flag) != inverted)
-            .collect()
+    let mean = |flag: Flag| -> Real {
+        let side = || {
+            let nodes = model.part(sub).nodes().iter();
+            nodes.filter(|n| nflags[n.index()].is(flag) != inverted)
+        };
+        match side().count() {
+            0 => 0.0,
+            count => side().map(|n| h[n.index()]).sum::<Real>() / count as Real,
+        }
     };
-    mean_nodal_h(model, &side(Flag::SLAVE)).max(mean_nodal_h(model, &side(Flag::MASTER)))
+    mean(Flag::SLAVE).max(mean(Flag::MASTER))
 }
 
 /// Geometry points, condition normal and nodal (historical) normals of a condition.

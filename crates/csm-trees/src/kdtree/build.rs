@@ -17,7 +17,7 @@ const PARALLEL_MIN: usize = 16_384;
 ///
 /// A range of more than `bucket_size` and at most `defer_max` points becomes a
 /// [`Node::Deferred`] (its entries left in their order, numbered in pre-order from 0); with
-/// `defer_max <= bucket_size` none does.
+/// `defer_max <= bucket_size` none does. Returns the root and the number of deferred nodes.
 ///
 /// `bucket_size >= 1` and `points.len() <= u32::MAX / 2` are checked by the caller.
 pub(super) fn build<T: Copy + Send>(
@@ -26,12 +26,16 @@ pub(super) fn build<T: Copy + Send>(
     nodes: &mut Vec<Node>,
     bucket_size: usize,
     defer_max: usize,
-) -> Option<u32> {
-    let root = build_with(items, points, nodes, (bucket_size, PARALLEL_MIN, defer_max))?;
+) -> (Option<u32>, usize) {
+    let Some(root) = build_with(items, points, nodes, (bucket_size, PARALLEL_MIN, defer_max))
+    else {
+        return (None, 0);
+    };
+    let mut deferred = 0;
     if defer_max > bucket_size {
-        number_deferred(nodes, root, &mut 0);
+        number_deferred(nodes, root, &mut deferred);
     }
-    Some(root)
+    (Some(root), deferred as usize)
 }
 
 /// [`build`] without numbering the deferred ranges; `sizes`: the bucket size, the smallest
@@ -79,16 +83,16 @@ pub(super) struct Entries<'a, T> {
 }
 
 impl<'a, T> Entries<'a, T> {
-    fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         self.points.len()
     }
 
-    fn swap(&mut self, i: usize, j: usize) {
+    pub(super) fn swap(&mut self, i: usize, j: usize) {
         self.items.swap(i, j);
         self.points.swap(i, j);
     }
 
-    fn v(&self, i: usize, axis: usize) -> Real {
+    pub(super) fn v(&self, i: usize, axis: usize) -> Real {
         self.points[i][axis]
     }
 
@@ -204,57 +208,14 @@ fn widest_axis(points: &[Point]) -> usize {
     axis
 }
 
-/// Kratos' Hoare-style quickselect on `axis` over the whole range: afterwards position `m` holds the
-/// value it would hold in sorted order, everything before it is `<=` and everything after it
-/// `>=` (reference §6.1, reproduced step by step so that the permutation matches Kratos').
-#[cfg_attr(not(test), allow(dead_code))]
-pub(super) fn select<T>(entries: &mut Entries<'_, T>, m: usize, axis: usize) {
-    let mut left = 0;
-    let mut right = entries.len() - 1;
-    while left < right {
-        let mut i = left;
-        if entries.v(i, axis) > entries.v(right, axis) {
-            entries.swap(i, right);
-        }
-        let pivot = entries.v(i, axis);
-        let mut j = right;
-        loop {
-            // `v(right) >= pivot` stops `i` at `right` at the latest, `v(left) == pivot`
-            // stops `j` at `left` at the latest.
-            loop {
-                i += 1;
-                if entries.v(i, axis) >= pivot {
-                    break;
-                }
-            }
-            loop {
-                j -= 1;
-                if entries.v(j, axis) <= pivot {
-                    break;
-                }
-            }
-            if i < j {
-                entries.swap(i, j);
-            } else {
-                break;
-            }
-        }
-        entries.swap(left, j);
-        if j > m {
-            right = j - 1;
-        } else if j < m {
-            left = j + 1;
-        } else {
-            break;
-        }
-    }
-}
-
 /// Positions scanned per block by [`select_blocks`].
 const SCAN_BLOCK: usize = 64;
 
-/// [`select`], with the same swaps in the same order (so the same permutation), found
-/// without its data-dependent scan branches: each partition pass lists, a block at a time
+/// Kratos' Hoare-style quickselect on `axis` over the whole range: afterwards position `m`
+/// holds the value it would hold in sorted order, everything before it is `<=` and everything
+/// after it `>=` (reference §6.1). The same swaps in the same order as Kratos' scalar loop
+/// (so the same permutation; the tests keep that loop as the oracle), found without its
+/// data-dependent scan branches: each partition pass lists, a block at a time
 /// and without branches, the positions its left scan stops at (`v >= pivot`, ascending from
 /// `left + 1`) and those its right scan stops at (`v <= pivot`, descending from
 /// `right − 1`). Hoare's pass swaps the `k`-th of each while the left one is before the right

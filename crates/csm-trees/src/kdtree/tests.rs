@@ -507,7 +507,7 @@ fn deferred_subtrees_give_the_built_tree() {
 /// constant runs, of sizes around the scan block.
 #[test]
 fn block_select_is_the_scalar_quickselect() {
-    use super::build::{Entries, select, select_blocks};
+    use super::build::{Entries, select_blocks};
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
     let mut next = move |k: u64| {
         state = state
@@ -558,6 +558,51 @@ fn block_select_is_the_scalar_quickselect() {
                 };
                 assert_eq!(run(true), run(false), "n {n}, m {m}, values {values:?}");
             }
+        }
+    }
+}
+
+/// Kratos' Hoare-style quickselect on `axis` over the whole range: afterwards position `m` holds the
+/// value it would hold in sorted order, everything before it is `<=` and everything after it
+/// `>=` (reference §6.1): Kratos' loop as written, the oracle of `select_blocks`.
+fn select<T>(entries: &mut super::build::Entries<'_, T>, m: usize, axis: usize) {
+    let mut left = 0;
+    let mut right = entries.len() - 1;
+    while left < right {
+        let mut i = left;
+        if entries.v(i, axis) > entries.v(right, axis) {
+            entries.swap(i, right);
+        }
+        let pivot = entries.v(i, axis);
+        let mut j = right;
+        loop {
+            // `v(right) >= pivot` stops `i` at `right` at the latest, `v(left) == pivot`
+            // stops `j` at `left` at the latest.
+            loop {
+                i += 1;
+                if entries.v(i, axis) >= pivot {
+                    break;
+                }
+            }
+            loop {
+                j -= 1;
+                if entries.v(j, axis) <= pivot {
+                    break;
+                }
+            }
+            if i < j {
+                entries.swap(i, j);
+            } else {
+                break;
+            }
+        }
+        entries.swap(left, j);
+        if j > m {
+            right = j - 1;
+        } else if j < m {
+            left = j + 1;
+        } else {
+            break;
         }
     }
 }

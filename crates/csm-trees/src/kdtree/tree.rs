@@ -269,18 +269,14 @@ impl<T: Copy + Send> KdTree<T> {
 
     fn build_in_place(&mut self) {
         self.nodes.clear();
-        self.root = build::build(
+        let (root, n_deferred) = build::build(
             &mut self.items,
             &mut self.points,
             &mut self.nodes,
             self.bucket_size,
             self.defer_max,
         );
-        let n_deferred = self
-            .nodes
-            .iter()
-            .filter(|node| matches!(node, Node::Deferred { .. }))
-            .count();
+        self.root = root;
         self.deferred = (0..n_deferred).map(|_| OnceLock::new()).collect();
         self.extent = Aabb::from_points(self.points.iter());
     }
