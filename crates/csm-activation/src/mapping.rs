@@ -1,7 +1,7 @@
 //! NormalGapProcess and the explicit dual-mortar mapper (reference §10.1 a–b, §10.2).
 
 use csm_geometry::math::{EPS, Point, Real, Vector, norm_kratos};
-use csm_geometry::{Geometry, MAX_FACE_NODES, MAX_MORTAR_FACE_NODES};
+use csm_geometry::{Geometry, LargestArea, MAX_FACE_NODES, MAX_MORTAR_FACE_NODES};
 use csm_geometry::{
     MortarFace, MortarMode, MortarOperators, OperatorSettings, Segmentation, SegmentationSettings,
     SlaveSegmentation, dual_basis, integration_points, mortar_operators,
@@ -994,7 +994,6 @@ fn normal_gap_process_inner(
     let slaves = SlavePositions::new(&s, n_nodes);
     // By slave node.
     let mut area = vec![0.0; s.slave_nodes.len()];
-    let mut ref_area: Real = 0.0;
     let all: Vec<ConditionIdx> = s
         .master_conditions
         .iter()
@@ -1002,30 +1001,31 @@ fn normal_gap_process_inner(
         .copied()
         .collect();
     let m = &*model;
-    // The largest area per task (areas are finite: `max` in any grouping is the serial
-    // maximum), and the first error in condition order.
-    let areas: Vec<Result<Real, Error>> = all
+    // The largest area per task (the maximum in any grouping is the serial one), and the
+    // first error in condition order.
+    let areas: Vec<Result<LargestArea, Error>> = all
         .par_chunks(CONDITIONS_PER_TASK)
         .map(|chunk| {
             let mut gathered = GatheredPoints::default();
-            let mut largest: Real = 0.0;
+            let mut largest = LargestArea::default();
             for block in chunk.chunks(GATHER_BLOCK) {
                 gathered.gather(m, block.iter().copied());
                 for (k, &c) in block.iter().enumerate() {
-                    let a = Geometry::new(m.conditions().kind(c.index()), gathered.points(k))
-                        .and_then(|g| g.area())
+                    largest
+                        .add(m.conditions().kind(c.index()), gathered.points(k))
                         .map_err(|e| {
                             Error::condition("area", m.conditions().ids()[c.index()], &e)
                         })?;
-                    largest = largest.max(a);
                 }
             }
             Ok(largest)
         })
         .collect();
+    let mut largest = LargestArea::default();
     for a in areas {
-        ref_area = ref_area.max(a?);
+        largest = largest.merge(a?);
     }
+    let ref_area = largest.value();
     // 3. Segmentation of every INDEX_MAP entry, with the first two mapper iterations where
     // they can follow it (`streamed`).
     let tasks = Segmenting {

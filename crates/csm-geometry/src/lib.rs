@@ -33,7 +33,8 @@ pub use bounding::{Aabb, BoundingSphere};
 pub use error::{Error, ErrorKind};
 pub use geometry::{
     CentreProbeBound, FaceUnitNormals, Geometry, LOCAL_COORDINATES_MAX_ITERATIONS,
-    LOCAL_COORDINATES_TOLERANCE, LocalCoordinatesSolver, MAX_FACE_NODES, TETRAHEDRON_LENGTH_FACTOR,
+    LOCAL_COORDINATES_TOLERANCE, LargestArea, LocalCoordinatesSolver, MAX_FACE_NODES,
+    TETRAHEDRON_LENGTH_FACTOR,
 };
 pub use intersection::{
     CENTRE_ROUNDING_EPS, CROSS_AXIS_GUARD, ObbIntersection, SatMode, TOUCH_TOLERANCE,

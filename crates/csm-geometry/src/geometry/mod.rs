@@ -21,5 +21,5 @@ pub(crate) use local_coordinates::PreparedSolver;
 pub use local_coordinates::{
     LOCAL_COORDINATES_MAX_ITERATIONS, LOCAL_COORDINATES_TOLERANCE, LocalCoordinatesSolver,
 };
-pub use measure::TETRAHEDRON_LENGTH_FACTOR;
+pub use measure::{LargestArea, TETRAHEDRON_LENGTH_FACTOR};
 pub use probe_bound::CentreProbeBound;

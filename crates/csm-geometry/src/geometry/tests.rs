@@ -738,3 +738,73 @@ fn the_outside_certificate_applies_to_plane_quadrilaterals_only() {
     assert!(QuadOutside::new(&collapsed).is_none());
     assert!(QuadOutside::new(&square[..3]).is_none());
 }
+
+/// `LargestArea` gives every face's `Geometry::area` (value bit for bit, or its error) and the
+/// largest of many, with the short path taken by well-shaped triangles only: random triangles
+/// at scales from 1e-70 to 1e70 (beyond, the radicand overflows or underflows: an error), needles on both sides of the degeneracy floor, far
+/// translations, non-finite points, wrong node counts and quadrilaterals.
+#[test]
+fn largest_area_is_the_largest_area_bit_for_bit() {
+    use crate::LargestArea;
+    let mut r = uniform(0x5eed_a4ea);
+    let mut all = LargestArea::default();
+    let mut expected: f64 = 0.0;
+    let (mut short, mut long, mut errors) = (0, 0, 0);
+    // Triangles near the floor: the long path, and an area.
+    let mut needles = 0;
+    for k in 0..20_000 {
+        let scale = 10f64.powf(140.0 * r());
+        let offset = Vector::new(r(), r(), r()) * scale * 10f64.powf(8.0 * (r() + 0.5));
+        let mut q = || offset + Vector::new(r(), r(), r()) * scale;
+        let (kind, mut pts) = match k % 5 {
+            // A needle near the origin (its area is then accurate in Heron's formula; far
+            // off, the rounding of its points is larger than its short edge): two points
+            // 10^[-15, -12] (relative) apart.
+            0 => {
+                let a = Vector::new(r(), r(), r()) * scale;
+                let h = 10f64.powf(-13.5 + 3.0 * r());
+                let b = a + Vector::new(r(), r(), r()) * scale * h;
+                let c = Vector::new(r(), r(), r()) * scale;
+                (GeometryKind::Triangle3D3, vec![a, b, c])
+            }
+            1 => (GeometryKind::Quadrilateral3D4, vec![q(), q(), q(), q()]),
+            _ => (GeometryKind::Triangle3D3, vec![q(), q(), q()]),
+        };
+        if k % 97 == 0 {
+            pts[k % 3].y = [f64::NAN, f64::INFINITY, f64::NEG_INFINITY][k % 3];
+        }
+        if k % 89 == 0 {
+            pts.pop();
+        }
+        let pts: Vec<Point> = pts.into_iter().map(Point::from).collect();
+        let want = Geometry::new(kind, &pts).and_then(|g| g.area());
+        let mut one = LargestArea::default();
+        match (one.add(kind, &pts), &want) {
+            (Ok(()), Ok(a)) => {
+                assert_eq!(one.value().to_bits(), a.to_bits(), "face {k}: {pts:?}");
+                expected = expected.max(*a);
+                if one.radicand > 0.0 {
+                    short += 1;
+                } else {
+                    long += 1;
+                    needles += usize::from(kind == GeometryKind::Triangle3D3);
+                }
+            }
+            (Err(got), Err(e)) => {
+                assert_eq!(got.kind(), e.kind(), "face {k}");
+                errors += 1;
+            }
+            (got, _) => panic!("face {k}: {got:?} against {want:?}"),
+        }
+        if all.add(kind, &pts).is_ok() && k % 2 == 0 {
+            assert_eq!(all.value().to_bits(), expected.to_bits(), "after face {k}");
+        }
+        let merged = LargestArea::default().merge(all).merge(one);
+        assert_eq!(merged.value(), all.value().max(one.value()));
+    }
+    assert_eq!(all.value().to_bits(), expected.to_bits());
+    assert!(
+        short > 10_000 && long > 3_000 && needles > 100 && errors > 500,
+        "{short} {long} {needles} {errors}"
+    );
+}
