@@ -113,43 +113,55 @@ pub fn compute_active_inactive_nodes(
         .copied()
         .filter(|n| model.nodes().flags()[n.index()].is(Flag::SLAVE) == o)
         .collect();
-    let data = model.nodal_data();
-    let gap = data.scalar(ScalarVar::NormalGap, 0).map(<[Real]>::to_vec);
-    let h = data.scalar(ScalarVar::NodalH, 0).map(<[Real]>::to_vec);
-    let area = data.scalar(ScalarVar::NodalArea, 0).map(<[Real]>::to_vec);
-    let wg = data.scalar(ScalarVar::WeightedGap, 0).map(<[Real]>::to_vec);
-    let wg_old = data.scalar(ScalarVar::WeightedGap, 1).map(<[Real]>::to_vec);
+    // Every node's decision reads the values before any node is changed: a node changes only
+    // its own flags and values, after its decision. So the decisions come first, read in
+    // place (no copies of the nodal columns), and the changes after.
+    let decisions: Vec<(bool, Real)> = {
+        let data = model.nodal_data();
+        let gap = data.scalar(ScalarVar::NormalGap, 0);
+        let h = data.scalar(ScalarVar::NodalH, 0);
+        let area = data.scalar(ScalarVar::NodalArea, 0);
+        let wg = data.scalar(ScalarVar::WeightedGap, 0);
+        let wg_old = data.scalar(ScalarVar::WeightedGap, 1);
+        let flags = model.nodes().flags();
+        nodes
+            .iter()
+            .map(|n| {
+                let i = n.index();
+                let g = gap.map_or(0.0, |c| c[i]);
+                let active = match settings.rule {
+                    ActivationRule::Simple => g < GAP_THRESHOLD * h.map_or(0.0, |c| c[i]),
+                    ActivationRule::Advanced {
+                        static_check_movement,
+                        consider_gap_threshold,
+                        distance_threshold,
+                        active_check_factor,
+                    } => {
+                        let mut l = distance_threshold * active_check_factor;
+                        let has_wg = wg.is_some();
+                        let w = wg.map_or(0.0, |c| c[i]);
+                        let a = area.map_or(1.0, |c| c[i]);
+                        let aux = flags[i].is(Flag::ACTIVE) && has_wg && w / a < l;
+                        if static_check_movement && has_wg {
+                            let old = wg_old.map_or(0.0, |c| c[i]);
+                            if w - old > -w.abs() * STATIC_CHECK_TOLERANCE
+                                && consider_gap_threshold
+                                && l < ADVANCED_GAP_THRESHOLD
+                            {
+                                l = ADVANCED_GAP_THRESHOLD;
+                            }
+                        }
+                        g < l || aux
+                    }
+                };
+                (active, g)
+            })
+            .collect()
+    };
     let mut inactive = Vec::new();
     let mut n_active = 0;
-    for n in nodes {
+    for (n, (active, g)) in nodes.into_iter().zip(decisions) {
         let i = n.index();
-        let flags = model.nodes().flags()[i];
-        let g = gap.as_ref().map_or(0.0, |c| c[i]);
-        let active = match settings.rule {
-            ActivationRule::Simple => g < GAP_THRESHOLD * h.as_ref().map_or(0.0, |c| c[i]),
-            ActivationRule::Advanced {
-                static_check_movement,
-                consider_gap_threshold,
-                distance_threshold,
-                active_check_factor,
-            } => {
-                let mut l = distance_threshold * active_check_factor;
-                let has_wg = wg.is_some();
-                let w = wg.as_ref().map_or(0.0, |c| c[i]);
-                let a = area.as_ref().map_or(1.0, |c| c[i]);
-                let aux = flags.is(Flag::ACTIVE) && has_wg && w / a < l;
-                if static_check_movement && has_wg {
-                    let old = wg_old.as_ref().map_or(0.0, |c| c[i]);
-                    if w - old > -w.abs() * STATIC_CHECK_TOLERANCE
-                        && consider_gap_threshold
-                        && l < ADVANCED_GAP_THRESHOLD
-                    {
-                        l = ADVANCED_GAP_THRESHOLD;
-                    }
-                }
-                g < l || aux
-            }
-        };
         if active {
             n_active += 1;
             if let Some(ab) = report.regression.filter(|_| predicting) {
