@@ -233,6 +233,51 @@ fn weighted_gap_of_a_flat_pair_is_gap_times_area() {
     );
 }
 
+/// A pair whose contribution cannot be computed (a flat slave face) is the weighted gap's
+/// error, the first in pair order, and the nodal values stay as they were.
+#[test]
+fn weighted_gap_error_is_the_first_in_pair_order_and_leaves_the_values() {
+    let (mut m, sub) = scene(0.01);
+    let flat = m
+        .add_condition(
+            ConditionId(4),
+            GeometryKind::Quadrilateral3D4,
+            "c",
+            &[NodeId(9), NodeId(10), NodeId(10), NodeId(9)],
+            PropertiesId(0),
+        )
+        .unwrap();
+    let unit_normals = m.condition_normals()[0];
+    m.condition_normals_mut()[flat.index()] = unit_normals;
+    m.nodal_data_mut().add_scalar(ScalarVar::WeightedGap);
+    m.nodal_data_mut()
+        .scalar_mut(ScalarVar::WeightedGap, 0)
+        .unwrap()
+        .fill(7.0);
+    let pairs = [
+        (ConditionIdx(0), ConditionIdx(1)),
+        (flat, ConditionIdx(1)),
+        (ConditionIdx(0), ConditionIdx(2)),
+    ];
+    let e =
+        compute_weighted_gap(&mut m, sub, &pairs, (MortarMode::Kratos, 1e24), 3, None).unwrap_err();
+    assert!(e.to_string().contains("condition 4"), "{e}");
+    let wg = m.nodal_data().scalar(ScalarVar::WeightedGap, 0).unwrap();
+    assert!(wg.iter().all(|&w| w == 7.0), "{wg:?}");
+    // Without the flat face, the same pairs give values.
+    compute_weighted_gap(
+        &mut m,
+        sub,
+        &[pairs[0], pairs[2]],
+        (MortarMode::Kratos, 1e24),
+        3,
+        None,
+    )
+    .unwrap();
+    let wg = m.nodal_data().scalar(ScalarVar::WeightedGap, 0).unwrap();
+    assert!(wg[..4].iter().all(|&w| w != 7.0), "{wg:?}");
+}
+
 #[test]
 fn advanced_distance_threshold_is_the_larger_mean_nodal_h() {
     let (mut m, sub) = scene(0.01);

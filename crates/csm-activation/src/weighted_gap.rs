@@ -40,15 +40,6 @@ pub fn compute_weighted_gap(
         return Ok(Vec::new());
     }
     let dim = dim.clamp(1, 3);
-    let sub_nodes = model.part(sub).nodes().to_vec();
-    let n_nodes = model.nodes().len();
-    let mut wg = model
-        .nodal_data()
-        .scalar(ScalarVar::WeightedGap, 0)
-        .map_or_else(|| vec![0.0; n_nodes], <[Real]>::to_vec);
-    for n in &sub_nodes {
-        wg[n.index()] = 0.0;
-    }
     let seg_settings = SegmentationSettings {
         mode,
         distance_threshold,
@@ -69,32 +60,42 @@ pub fn compute_weighted_gap(
         )
         .flatten_iter()
         .collect();
-    let mut computed = computed.into_iter();
+    // Every pair's contribution, in pair order.
+    let contributions = || {
+        let mut computed = computed.iter();
+        let mut cursor = known.cursor();
+        pairs.iter().map(move |&(sc, mc)| {
+            cursor
+                .get(sc, mc)
+                .or_else(|| computed.next())
+                .expect("one computed contribution per unknown pair")
+        })
+    };
+    // The first error in pair order, before anything is written (the model's values stay
+    // as they were on an error); looked for only where some computation failed.
+    if (known.has_errors() || computed.iter().any(Result::is_err))
+        && let Some(Err(e)) = contributions().find(|c| c.is_err())
+    {
+        return Err(e.clone());
+    }
+    // Summed in place: the sub's nodes start at zero, then every contribution in pair order.
     let mut isolated = Vec::with_capacity(pairs.len());
-    let mut cursor = known.cursor();
-    for &(sc, mc) in pairs {
-        let fresh;
-        let contribution = match cursor.get(sc, mc) {
-            Some(gap) => gap,
-            None => {
-                fresh = computed
-                    .next()
-                    .expect("one computed contribution per unknown pair");
-                &fresh
-            }
-        };
-        let contribution = contribution.as_ref().map_err(Clone::clone)?;
-        isolated.push(contribution.is_none());
-        let Some(pair) = contribution else {
-            continue;
-        };
-        for (n, g) in model.conditions().nodes(sc.index()).iter().zip(pair.gaps()) {
-            wg[n.index()] += g;
+    model.with_scalar_mut(ScalarVar::WeightedGap, 0, |m, wg| {
+        for n in m.part(sub).nodes() {
+            wg[n.index()] = 0.0;
         }
-    }
-    if let Some(col) = model.nodal_data_mut().scalar_mut(ScalarVar::WeightedGap, 0) {
-        col.copy_from_slice(&wg);
-    }
+        for (&(sc, _), contribution) in pairs.iter().zip(contributions()) {
+            // (No error is left.)
+            let pair = contribution.as_ref().ok().and_then(Option::as_ref);
+            isolated.push(pair.is_none());
+            let Some(pair) = pair else {
+                continue;
+            };
+            for (n, g) in m.conditions().nodes(sc.index()).iter().zip(pair.gaps()) {
+                wg[n.index()] += g;
+            }
+        }
+    });
     Ok(isolated)
 }
 
@@ -159,6 +160,11 @@ impl KnownGaps {
     #[cfg(test)]
     pub(crate) fn entries(&self) -> &[KnownGap] {
         &self.entries
+    }
+
+    /// Whether a computation gave an error.
+    pub(crate) fn has_errors(&self) -> bool {
+        self.entries.iter().any(|(_, gap)| gap.is_err())
     }
 
     /// A cursor for many lookups ([`KnownGapsCursor::get`]).

@@ -4,13 +4,13 @@
 use std::collections::{BTreeMap, HashMap};
 
 use csm_geometry::GeometryKind;
-use csm_geometry::math::{Point, Vector};
+use csm_geometry::math::{Point, Real, Vector};
 
 use crate::error::{EntityKind, Error, ErrorKind};
 use crate::parts::{SubModelPart, merge_sorted};
 use crate::{
     ConditionId, ConditionIdx, ElementId, ElementIdx, Entities, IndexMap, NodalData, NodeId,
-    NodeIdx, Nodes, PartIdx, ProcessInfo, Properties, PropertiesId, VectorVar,
+    NodeIdx, Nodes, PartIdx, ProcessInfo, Properties, PropertiesId, ScalarVar, VectorVar,
 };
 
 /// The root model part (Kratos `ModelPart`, e.g. `Structure`): dense storage of every
@@ -129,6 +129,19 @@ impl ModelPart {
         let mut values = self.nodal_data.take_vector(var, step)?;
         let result = f(self, &mut values);
         self.nodal_data.put_vector(var, step, values);
+        Some(result)
+    }
+
+    /// [`ModelPart::with_vector_mut`] for the scalar variable `var`.
+    pub fn with_scalar_mut<R>(
+        &mut self,
+        var: ScalarVar,
+        step: usize,
+        f: impl FnOnce(&ModelPart, &mut [Real]) -> R,
+    ) -> Option<R> {
+        let mut values = self.nodal_data.take_scalar(var, step)?;
+        let result = f(self, &mut values);
+        self.nodal_data.put_scalar(var, step, values);
         Some(result)
     }
 

@@ -234,6 +234,22 @@ impl NodalData {
     }
 
     /// Takes the values of `var` at `step` out (leaving none), for
+    /// [`ModelPart::with_scalar_mut`](crate::ModelPart::with_scalar_mut), which puts them back.
+    pub(crate) fn take_scalar(&mut self, var: ScalarVar, step: usize) -> Option<Vec<Real>> {
+        self.scalars
+            .get_mut(&var)?
+            .get_mut(step)
+            .map(std::mem::take)
+    }
+
+    /// Puts back what [`NodalData::take_scalar`] took.
+    pub(crate) fn put_scalar(&mut self, var: ScalarVar, step: usize, values: Vec<Real>) {
+        if let Some(column) = self.scalars.get_mut(&var).and_then(|c| c.get_mut(step)) {
+            *column = values;
+        }
+    }
+
+    /// Takes the values of `var` at `step` out (leaving none), for
     /// [`ModelPart::with_vector_mut`](crate::ModelPart::with_vector_mut), which puts them back.
     pub(crate) fn take_vector(&mut self, var: VectorVar, step: usize) -> Option<Vec<Vector>> {
         self.column_mut(var, step).map(std::mem::take)

@@ -162,3 +162,35 @@ fn renumbering_and_permuting_conditions() {
         "wrong length"
     );
 }
+
+/// `with_scalar_mut` and `with_vector_mut` hand out the column (absent from the model
+/// meanwhile) and put it back with what was written; `None` without the variable or step.
+#[test]
+fn with_column_mut_lends_the_column_and_puts_it_back() {
+    let mut mp = square();
+    assert_eq!(
+        mp.with_scalar_mut(ScalarVar::WeightedGap, 0, |_, _| ()),
+        None
+    );
+    mp.nodal_data_mut().add_scalar(ScalarVar::WeightedGap);
+    assert_eq!(
+        mp.with_scalar_mut(ScalarVar::WeightedGap, 3, |_, _| ()),
+        None
+    );
+    let seen = mp.with_scalar_mut(ScalarVar::WeightedGap, 0, |m, col| {
+        col[1] = 2.5;
+        m.nodal_data()
+            .scalar(ScalarVar::WeightedGap, 0)
+            .map(<[f64]>::len)
+    });
+    assert_eq!(seen, Some(Some(0)));
+    let col = mp.nodal_data().scalar(ScalarVar::WeightedGap, 0).unwrap();
+    assert_eq!(col.len(), mp.nodes().len());
+    assert_eq!(col[1], 2.5);
+    mp.nodal_data_mut().add_vector(VectorVar::Normal);
+    mp.with_vector_mut(VectorVar::Normal, 0, |_, col| col[2].x = 1.5);
+    assert_eq!(
+        mp.nodal_data().vector(VectorVar::Normal, 0).unwrap()[2].x,
+        1.5
+    );
+}
