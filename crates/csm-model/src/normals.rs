@@ -542,12 +542,20 @@ fn sums_by_node_blocks<'a>(
         .into_par_iter()
         .map(|chunk| {
             let range = chunk * faces..((chunk + 1) * faces).min(n_faces);
-            // A counting pass, then the contributions placed in face order per block.
+            // A counting pass, then the contributions placed in face order per block. With
+            // `wanted`, the counting pass lists the faces with a wanted node (usually few),
+            // and only these are read again.
             let mut start = vec![0usize; n_blocks + 1];
             let is_wanted = |node: &NodeIdx| wanted.is_none_or(|w| w[node.index()]);
+            let mut hit = Vec::new();
             for f in range.clone() {
+                let mut any = false;
                 for node in face_nodes(f).iter().filter(|n| is_wanted(n)) {
                     start[block_of(node.index()) + 1] += 1;
+                    any = true;
+                }
+                if any && wanted.is_some() {
+                    hit.push(f);
                 }
             }
             for b in 0..n_blocks {
@@ -555,7 +563,7 @@ fn sums_by_node_blocks<'a>(
             }
             let mut next = start.clone();
             let mut contributions = vec![(0u32, 0u32); start[n_blocks]];
-            for f in range {
+            let mut place = |f: usize| {
                 for (k, node) in face_nodes(f).iter().enumerate() {
                     if !is_wanted(node) {
                         continue;
@@ -564,6 +572,10 @@ fn sums_by_node_blocks<'a>(
                     contributions[*slot] = (node.get(), reference(f, k));
                     *slot += 1;
                 }
+            };
+            match wanted {
+                Some(_) => hit.into_iter().for_each(&mut place),
+                None => range.for_each(&mut place),
             }
             SortedChunk {
                 start,
