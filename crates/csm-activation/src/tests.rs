@@ -247,33 +247,50 @@ fn weighted_gap_error_is_the_first_in_pair_order_and_leaves_the_values() {
             PropertiesId(0),
         )
         .unwrap();
+    // A second flat face with a larger id, listed first: the error is the first in pair
+    // order, not the smallest id nor the last.
+    let flat_first = m
+        .add_condition(
+            ConditionId(5),
+            GeometryKind::Quadrilateral3D4,
+            "c",
+            &[NodeId(10), NodeId(9), NodeId(9), NodeId(10)],
+            PropertiesId(0),
+        )
+        .unwrap();
     let unit_normals = m.condition_normals()[0];
     m.condition_normals_mut()[flat.index()] = unit_normals;
+    m.condition_normals_mut()[flat_first.index()] = unit_normals;
     m.nodal_data_mut().add_scalar(ScalarVar::WeightedGap);
     m.nodal_data_mut()
         .scalar_mut(ScalarVar::WeightedGap, 0)
         .unwrap()
         .fill(7.0);
+    let settings = (MortarMode::Kratos, 1e24);
     let pairs = [
         (ConditionIdx(0), ConditionIdx(1)),
+        (flat_first, ConditionIdx(1)),
         (flat, ConditionIdx(1)),
         (ConditionIdx(0), ConditionIdx(2)),
     ];
-    let e =
-        compute_weighted_gap(&mut m, sub, &pairs, (MortarMode::Kratos, 1e24), 3, None).unwrap_err();
+    let e = compute_weighted_gap(&mut m, sub, &pairs, settings, 3, None).unwrap_err();
+    assert!(e.to_string().contains("condition 5"), "{e}");
+    let e = compute_weighted_gap(&mut m, sub, &pairs[2..], settings, 3, None).unwrap_err();
     assert!(e.to_string().contains("condition 4"), "{e}");
-    let wg = m.nodal_data().scalar(ScalarVar::WeightedGap, 0).unwrap();
-    assert!(wg.iter().all(|&w| w == 7.0), "{wg:?}");
-    // Without the flat face, the same pairs give values.
-    compute_weighted_gap(
-        &mut m,
-        sub,
-        &[pairs[0], pairs[2]],
-        (MortarMode::Kratos, 1e24),
-        3,
-        None,
-    )
-    .unwrap();
+    let unchanged = |m: &ModelPart| {
+        let wg = m.nodal_data().scalar(ScalarVar::WeightedGap, 0).unwrap();
+        assert!(wg.iter().all(|&w| w == 7.0), "{wg:?}");
+    };
+    unchanged(&m);
+    // An error the mapping recorded for a pair (known) is reported too, with no computed
+    // one, and nothing is written.
+    let good = [pairs[0], pairs[3]];
+    let known = crate::weighted_gap::KnownGaps::new(vec![(good[1], Err(e.clone()))]);
+    let again = compute_weighted_gap(&mut m, sub, &good, settings, 3, Some(known)).unwrap_err();
+    assert_eq!(again.to_string(), e.to_string());
+    unchanged(&m);
+    // Without the flat faces and the recorded error, the same pairs give values.
+    compute_weighted_gap(&mut m, sub, &good, settings, 3, None).unwrap();
     let wg = m.nodal_data().scalar(ScalarVar::WeightedGap, 0).unwrap();
     assert!(wg[..4].iter().all(|&w| w != 7.0), "{wg:?}");
 }

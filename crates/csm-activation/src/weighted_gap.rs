@@ -85,7 +85,8 @@ pub fn compute_weighted_gap(
             wg[n.index()] = 0.0;
         }
         for (&(sc, _), contribution) in pairs.iter().zip(contributions()) {
-            // (No error is left.)
+            // (No error is left: the first one was returned above.)
+            debug_assert!(contribution.is_ok(), "an error reached the sums");
             let pair = contribution.as_ref().ok().and_then(Option::as_ref);
             isolated.push(pair.is_none());
             let Some(pair) = pair else {

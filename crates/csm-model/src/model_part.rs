@@ -132,7 +132,11 @@ impl ModelPart {
         Some(result)
     }
 
-    /// [`ModelPart::with_vector_mut`] for the scalar variable `var`.
+    /// Calls `f` with the model and the values of the scalar variable `var` at buffer step
+    /// `step` (by node index), to write them from what the rest of the model holds without
+    /// a copy ([`ModelPart::with_vector_mut`] for a scalar). Meanwhile the model's own values
+    /// of `var` at `step` are absent (`f` has them). `None` (and `f` is not called) if the
+    /// variable is absent or the step is not kept.
     pub fn with_scalar_mut<R>(
         &mut self,
         var: ScalarVar,

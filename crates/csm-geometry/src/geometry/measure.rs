@@ -22,6 +22,9 @@ pub const TETRAHEDRON_LENGTH_FACTOR: Real = 2.039_648_902_655_5;
 /// own root and without the bounding box. Every other face — another kind, a non-finite point,
 /// a near-degenerate or underflowing triangle — goes through [`Geometry::new`] and
 /// [`Geometry::area`], which give its value or its error.
+///
+/// `==` compares the accumulated state (the short path's radicand and the other faces' area
+/// apart), not only [`LargestArea::value`].
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct LargestArea {
     /// The largest radicand of the triangles taken by the short path (0 without).

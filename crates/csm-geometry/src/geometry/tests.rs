@@ -752,8 +752,13 @@ fn largest_area_is_the_largest_area_bit_for_bit() {
     let (mut short, mut long, mut errors) = (0, 0, 0);
     // Triangles near the floor: the long path, and an area.
     let mut needles = 0;
+    // Triangles whose radicand overflows (an error: an infinite area) or whose floor
+    // underflows (the long path's own floor decides).
+    let (mut huge, mut tiny) = (0, 0);
+    // Two halves, merged at the end (as the parallel reduction merges its parts).
+    let (mut even, mut odd) = (LargestArea::default(), LargestArea::default());
     for k in 0..20_000 {
-        let scale = 10f64.powf(140.0 * r());
+        let scale = 10f64.powf(190.0 * r());
         let offset = Vector::new(r(), r(), r()) * scale * 10f64.powf(8.0 * (r() + 0.5));
         let mut q = || offset + Vector::new(r(), r(), r()) * scale;
         let (kind, mut pts) = match k % 5 {
@@ -777,6 +782,10 @@ fn largest_area_is_the_largest_area_bit_for_bit() {
             pts.pop();
         }
         let pts: Vec<Point> = pts.into_iter().map(Point::from).collect();
+        if kind == GeometryKind::Triangle3D3 && pts.len() == 3 {
+            huge += usize::from(scale > 1e80);
+            tiny += usize::from(scale < 1e-80);
+        }
         let want = Geometry::new(kind, &pts).and_then(|g| g.area());
         let mut one = LargestArea::default();
         match (one.add(kind, &pts), &want) {
@@ -799,12 +808,24 @@ fn largest_area_is_the_largest_area_bit_for_bit() {
         if all.add(kind, &pts).is_ok() && k % 2 == 0 {
             assert_eq!(all.value().to_bits(), expected.to_bits(), "after face {k}");
         }
-        let merged = LargestArea::default().merge(all).merge(one);
-        assert_eq!(merged.value(), all.value().max(one.value()));
+        let half = if k % 2 == 0 { &mut even } else { &mut odd };
+        // An error leaves the accumulator as it was (the caller stops at the first one).
+        let before = *half;
+        if half.add(kind, &pts).is_err() {
+            assert_eq!(*half, before, "face {k}");
+        }
     }
     assert_eq!(all.value().to_bits(), expected.to_bits());
+    let merged = LargestArea::default().merge(even).merge(odd);
+    assert_eq!(merged.value().to_bits(), expected.to_bits());
+    assert_eq!(odd.merge(even).value().to_bits(), expected.to_bits());
     assert!(
-        short > 10_000 && long > 3_000 && needles > 100 && errors > 500,
-        "{short} {long} {needles} {errors}"
+        short > 7_000
+            && long > 3_000
+            && needles > 100
+            && errors > 500
+            && huge > 1_000
+            && tiny > 1_000,
+        "{short} {long} {needles} {errors} {huge} {tiny}"
     );
 }

@@ -203,6 +203,70 @@ fn nodal_sums_are_the_serial_sums_for_any_thread_count() {
 }
 
 #[test]
+fn wanted_nodal_sums_are_the_serial_sums_in_any_chunks() {
+    // Two node blocks, many chunks of faces; the wanted nodes' sums are the serial ones (in
+    // face order), every other node keeps its value.
+    let n = 101;
+    let mp = bumpy_grid(n);
+    let table = face_unit_normals(&mp, &all_conditions(&mp)).unwrap();
+    let faces: Vec<FaceNormalsRef<'_>> = table.iter().collect();
+    // Each face's nodal normals, flat: face f's k-th at `first[f] + k`.
+    let mut first = Vec::new();
+    let mut normals = Vec::new();
+    for face in &faces {
+        first.push(normals.len());
+        let n_nodes = mp.conditions().nodes(face.condition.index()).len();
+        normals.extend((0..n_nodes).map(|k| face.node(k)));
+    }
+    let n_nodes = n * n;
+    assert!(n_nodes > 1 << NODE_BLOCK_BITS);
+    let wanted: Vec<bool> = (0..n_nodes).map(|i| i % 3 == 1 || i % 1000 == 0).collect();
+    let mut serial = (
+        vec![Vector::new(7.0, -1.0, 0.5); n_nodes],
+        vec![0u32; n_nodes],
+    );
+    for (f, face) in faces.iter().enumerate() {
+        let nodes = mp.conditions().nodes(face.condition.index());
+        for (k, node) in nodes.iter().enumerate() {
+            let i = node.index();
+            if wanted[i] {
+                if serial.1[i] == 0 {
+                    serial.0[i] = Vector::zeros();
+                }
+                serial.0[i] += normals[first[f] + k];
+                serial.1[i] += 1;
+            }
+        }
+    }
+    assert!(serial.1.iter().filter(|&&c| c > 0).count() > n_nodes / 3);
+    for threads in [1, 2, 3] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        for per_chunk in [1, 7, 1000, faces.len()] {
+            let mut sums = (
+                vec![Vector::new(7.0, -1.0, 0.5); n_nodes],
+                vec![0u32; n_nodes],
+            );
+            pool.install(|| {
+                sums_by_node_blocks(
+                    (&mut sums.0, &mut sums.1),
+                    (faces.len(), Some(&wanted)),
+                    |f| mp.conditions().nodes(faces[f].condition.index()),
+                    (|f, k| (first[f] + k) as u32, |r| normals[r as usize]),
+                    per_chunk,
+                )
+            });
+            assert_eq!(
+                sums, serial,
+                "{threads} threads, chunks of {per_chunk} faces"
+            );
+        }
+    }
+}
+
+#[test]
 fn a_subset_of_the_table_is_the_table_of_the_subset() {
     let mut mp = bumpy_grid(12);
     // A 2D solid (not a face) among the conditions: skipped by both.
