@@ -30,22 +30,25 @@ impl Plan {
         // The nodes of every pair, as its `Contact.ContactSub<key>` will hold them.
         let mut pair_nodes = BTreeMap::new();
         for (&key, pair) in &setup.pairs {
-            let mut nodes = BTreeSet::new();
+            // Sorted and deduplicated at the end (no tree insertion per node).
+            let mut nodes: Vec<NodeIdx> = Vec::new();
             if existing {
                 let sub = model
                     .find_part(&contact_sub_path(key))
                     .ok_or_else(|| missing_contact_sub(key))?;
-                nodes.extend(model.part(sub).nodes().iter().copied());
+                nodes.extend_from_slice(model.part(sub).nodes());
             } else {
                 for path in pair.parts.iter().chain(&pair.slaves) {
                     user_part(model, path, key)?;
                 }
                 for path in &pair.parts {
                     let part = user_part(model, path, key)?;
-                    nodes.extend(model.part(part).nodes().iter().copied());
+                    nodes.extend_from_slice(model.part(part).nodes());
                 }
             }
-            pair_nodes.insert(key, nodes.into_iter().collect::<Vec<NodeIdx>>());
+            nodes.sort_unstable();
+            nodes.dedup();
+            pair_nodes.insert(key, nodes);
         }
 
         let contact_parts = if existing {
