@@ -238,29 +238,25 @@ fn weighted_gap_of_a_flat_pair_is_gap_times_area() {
 #[test]
 fn weighted_gap_error_is_the_first_in_pair_order_and_leaves_the_values() {
     let (mut m, sub) = scene(0.01);
-    let flat = m
-        .add_condition(
-            ConditionId(4),
-            GeometryKind::Quadrilateral3D4,
-            "c",
-            &[NodeId(9), NodeId(10), NodeId(10), NodeId(9)],
-            PropertiesId(0),
-        )
-        .unwrap();
+    // A flat quadrilateral on nodes 9 and 10, with the first condition's normals.
+    let mut add_flat = |id: u32, nodes: [u32; 4]| {
+        let c = m
+            .add_condition(
+                ConditionId(id),
+                GeometryKind::Quadrilateral3D4,
+                "c",
+                &nodes.map(NodeId),
+                PropertiesId(0),
+            )
+            .unwrap();
+        let unit_normals = m.condition_normals()[0];
+        m.condition_normals_mut()[c.index()] = unit_normals;
+        c
+    };
+    let flat = add_flat(4, [9, 10, 10, 9]);
     // A second flat face with a larger id, listed first: the error is the first in pair
     // order, not the smallest id nor the last.
-    let flat_first = m
-        .add_condition(
-            ConditionId(5),
-            GeometryKind::Quadrilateral3D4,
-            "c",
-            &[NodeId(10), NodeId(9), NodeId(9), NodeId(10)],
-            PropertiesId(0),
-        )
-        .unwrap();
-    let unit_normals = m.condition_normals()[0];
-    m.condition_normals_mut()[flat.index()] = unit_normals;
-    m.condition_normals_mut()[flat_first.index()] = unit_normals;
+    let flat_first = add_flat(5, [10, 9, 9, 10]);
     m.nodal_data_mut().add_scalar(ScalarVar::WeightedGap);
     m.nodal_data_mut()
         .scalar_mut(ScalarVar::WeightedGap, 0)

@@ -236,15 +236,12 @@ impl NodalData {
     /// Takes the values of `var` at `step` out (leaving none), for
     /// [`ModelPart::with_scalar_mut`](crate::ModelPart::with_scalar_mut), which puts them back.
     pub(crate) fn take_scalar(&mut self, var: ScalarVar, step: usize) -> Option<Vec<Real>> {
-        self.scalars
-            .get_mut(&var)?
-            .get_mut(step)
-            .map(std::mem::take)
+        column_of(&mut self.scalars, var, step).map(std::mem::take)
     }
 
     /// Puts back what [`NodalData::take_scalar`] took.
     pub(crate) fn put_scalar(&mut self, var: ScalarVar, step: usize, values: Vec<Real>) {
-        if let Some(column) = self.scalars.get_mut(&var).and_then(|c| c.get_mut(step)) {
+        if let Some(column) = column_of(&mut self.scalars, var, step) {
             *column = values;
         }
     }
@@ -257,7 +254,7 @@ impl NodalData {
 
     /// Puts back what [`NodalData::take_vector`] took.
     pub(crate) fn put_vector(&mut self, var: VectorVar, step: usize, values: Vec<Vector>) {
-        if let Some(column) = self.vectors.get_mut(&var).and_then(|c| c.get_mut(step)) {
+        if let Some(column) = column_of(&mut self.vectors, var, step) {
             *column = values;
         }
     }
@@ -312,3 +309,12 @@ impl NodalData {
 
 #[cfg(test)]
 mod tests;
+
+/// The column of `var` at buffer step `step` in `columns` (by variable, then step), as is.
+fn column_of<K: Ord, T>(
+    columns: &mut BTreeMap<K, Vec<Vec<T>>>,
+    var: K,
+    step: usize,
+) -> Option<&mut Vec<T>> {
+    columns.get_mut(&var)?.get_mut(step)
+}
