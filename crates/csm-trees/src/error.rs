@@ -39,6 +39,9 @@ pub enum ErrorKind {
     RefineAfterInsert,
     /// A tree was given item and point lists of different lengths.
     LengthMismatch,
+    /// An octree leaf id is not a leaf of the octree it was given to (another octree's, or
+    /// one from before a refinement).
+    NotALeaf,
 }
 
 impl Error {
@@ -85,6 +88,7 @@ impl fmt::Display for Error {
             ErrorKind::LengthMismatch => {
                 write!(f, "the item and point lists differ in length")
             }
+            ErrorKind::NotALeaf => write!(f, "the cell is not a leaf of this octree"),
             ErrorKind::RefineAfterInsert => {
                 write!(
                     f,

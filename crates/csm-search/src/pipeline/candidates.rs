@@ -431,11 +431,21 @@ pub(crate) fn direct_check_nodes(
     let model = cx.model;
     let conditions = model.conditions();
     let master_nodes = conditions.nodes(master.index());
-    let master_points: Vec<Point> = master_nodes
-        .iter()
-        .map(|n| model.nodes().coordinates()[n.index()])
-        .collect();
-    let master_geometry = Geometry::new(conditions.kind(master.index()), &master_points)
+    // On the stack, no allocation per candidate (a face has at most MAX_FACE_NODES nodes;
+    // a longer list, which no face kind has, is gathered as before).
+    let mut buffer = [Point::origin(); MAX_FACE_NODES];
+    let n = master_nodes.len();
+    let mut master_points = Vec::new();
+    let master_points: &[Point] = if n <= MAX_FACE_NODES {
+        for (p, node) in buffer.iter_mut().zip(master_nodes) {
+            *p = model.nodes().coordinates()[node.index()];
+        }
+        &buffer[..n]
+    } else {
+        model.gather_points(master_nodes, &mut master_points);
+        &master_points
+    };
+    let master_geometry = Geometry::new(conditions.kind(master.index()), master_points)
         .map_err(|e| geometry_error(model, master, &e))?;
     let n_s = model.condition_normals()[s.index()];
     let n_c = *n_c;

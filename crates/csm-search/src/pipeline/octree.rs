@@ -8,13 +8,20 @@
 //!    node, then every master condition (ascending id) is stored in every leaf whose box (grown
 //!    by the absolute cell tolerance, Q17) meets its geometry (`pieces`: segment/box,
 //!    triangle/box; other kinds never, Q16).
-//! 4. A serial loop over the ContactSub conditions in ascending id order with ACTIVE defined:
+//! 4. A loop over the ContactSub conditions in ascending id order with ACTIVE defined:
 //!    the leaves the condition meets (same test); for a SLAVE condition `MarkIfIntersected`
 //!    (SELECTED on the slave and on every master of its leaves whose OBB — or, with `bbf ≤ 0`,
 //!    whose geometry — meets the slave's); then, if the condition Is(SELECTED), every SELECTED
 //!    master of its leaves, leaf by leaf in stored order: MappingCheck → `CheckGeometricalObject`
 //!    and `INDEX_MAP.AddId`; No/DirectCheck → `AddPotentialPairing` with the master's unit
 //!    normal at local (0,0,0), once per leaf (Q15).
+//!
+//! What only reads the model runs in parallel: each master's leaves before the masters are
+//! stored (in ascending id order, so each leaf lists them as Kratos' insertions do), and each
+//! slave's leaves and the answers of its `HasIntersection` calls, in the order the serial
+//! `MarkIfIntersected` makes them (each master of its leaves at its first visit). The flags,
+//! the pairings and the errors then follow the serial loop, condition by condition: the
+//! result is Kratos' loop's for any thread count.
 //!
 //! `compatibility: kratos` reproduces the quirks: every condition with ACTIVE defined enters
 //! the loop, so a MASTER condition still SELECTED by an earlier slave pairs with the stale
@@ -41,9 +48,12 @@ mod root_box;
 mod tests;
 
 use std::collections::BTreeSet;
+use std::sync::OnceLock;
+
+use rayon::prelude::*;
 
 use csm_geometry::math::{EPS, Point, Real, Vector};
-use csm_geometry::{Geometry, GeometryKind, ObbIntersection, SatMode};
+use csm_geometry::{Geometry, GeometryKind, MAX_FACE_NODES, ObbIntersection, SatMode};
 use csm_model::{ConditionId, ConditionIdx, Flag, ModelPart, NodeIdx, PartIdx, ScalarVar};
 use csm_trees::{LeafId, Octree};
 
@@ -100,14 +110,14 @@ fn points_of(model: &ModelPart, c: ConditionIdx) -> Vec<Point> {
 }
 
 /// The object-vs-leaf test of one condition.
-enum CellTest {
+enum CellTest<'p> {
     /// Kratos' `IsIntersected`: segment/box, triangle/box.
-    Pieces(Vec<Piece>),
+    Pieces(&'p [Piece]),
     /// Robust with OBBs: the AABB of the condition's OBB.
     Box(csm_trees::Aabb),
 }
 
-impl CellTest {
+impl CellTest<'_> {
     fn overlaps(&self, cell: &csm_trees::Aabb) -> bool {
         match self {
             CellTest::Pieces(p) => overlaps_cell(p, cell),
@@ -116,36 +126,38 @@ impl CellTest {
     }
 }
 
-/// The per-step state of the serial loop.
+/// The per-step state of the search: the octree and the conditions' pieces and boxes, each
+/// computed on first use (a function of its condition alone, so which thread computes it
+/// first does not matter).
 struct Search<'a> {
     cx: &'a OctreeContext<'a>,
     octree: Octree<ConditionIdx>,
     bbf: Real,
     robust: bool,
-    /// Linear pieces by condition index (`None`: not computed yet / not testable).
-    pieces: Vec<Option<Option<Vec<Piece>>>>,
-    /// Whole-face OBBs by condition index, built on first use.
-    bvs: Vec<Option<Bv>>,
+    /// Linear pieces by condition index (`None` inside: not testable).
+    pieces: Vec<OnceLock<Option<Vec<Piece>>>>,
+    /// Whole-face OBBs by condition index, or the message of their build's error.
+    bvs: Vec<OnceLock<Result<Bv, String>>>,
 }
 
 impl Search<'_> {
-    fn pieces(&mut self, model: &ModelPart, c: ConditionIdx) -> Option<&[Piece]> {
-        let slot = &mut self.pieces[c.index()];
-        if slot.is_none() {
-            let kind = model.conditions().kind(c.index());
-            *slot = Some(linear_pieces(kind, &points_of(model, c), self.robust));
-        }
-        slot.as_ref().and_then(|p| p.as_deref())
+    fn pieces(&self, model: &ModelPart, c: ConditionIdx) -> Option<&[Piece]> {
+        self.pieces[c.index()]
+            .get_or_init(|| {
+                let kind = model.conditions().kind(c.index());
+                linear_pieces(kind, &points_of(model, c), self.robust)
+            })
+            .as_deref()
     }
 
     /// How condition `c` is tested against a leaf box, and its bounding box: Kratos (and robust
     /// without OBBs) by its linear pieces within the AABB of its nodes; robust with OBBs by the
     /// AABB of its OBB. `None`: never in a leaf (Kratos: a non-linear face, Q16).
     fn cell_test(
-        &mut self,
+        &self,
         model: &ModelPart,
         c: ConditionIdx,
-    ) -> Result<Option<(CellTest, csm_trees::Aabb)>, Error> {
+    ) -> Result<Option<(CellTest<'_>, csm_trees::Aabb)>, Error> {
         if self.robust && self.bbf > 0.0 {
             let aabb = match self.bv(model, c)? {
                 Bv::D2(o) => o.aabb(),
@@ -154,18 +166,18 @@ impl Search<'_> {
             let aabb = csm_trees::Aabb::new(aabb.min, aabb.max);
             return Ok(Some((CellTest::Box(aabb), aabb)));
         }
-        let points = points_of(model, c);
-        let Some(aabb) = csm_trees::Aabb::from_points(&points) else {
+        let coords = model.nodes().coordinates();
+        let nodes = model.conditions().nodes(c.index());
+        let Some(aabb) = csm_trees::Aabb::from_points(nodes.iter().map(|n| &coords[n.index()]))
+        else {
             return Ok(None);
         };
-        Ok(self
-            .pieces(model, c)
-            .map(|p| (CellTest::Pieces(p.to_vec()), aabb)))
+        Ok(self.pieces(model, c).map(|p| (CellTest::Pieces(p), aabb)))
     }
 
     /// The leaves condition `c` meets (empty when it cannot be tested).
     fn leaves(
-        &mut self,
+        &self,
         model: &ModelPart,
         c: ConditionIdx,
         out: &mut Vec<LeafId>,
@@ -179,31 +191,31 @@ impl Search<'_> {
             .map_err(tree_error)
     }
 
-    fn bv(&mut self, model: &ModelPart, c: ConditionIdx) -> Result<Bv, Error> {
-        if let Some(bv) = self.bvs[c.index()] {
-            return Ok(bv);
-        }
-        let points = points_of(model, c);
-        let kind = model.conditions().kind(c.index());
-        let bv = Geometry::new(kind, &points)
-            .and_then(|g| {
-                Bv::build(
-                    &g,
-                    self.cx.dim,
-                    self.bbf,
-                    self.cx.params.octree.build_from_bounding_box,
-                    self.cx.compatibility,
-                )
+    fn bv(&self, model: &ModelPart, c: ConditionIdx) -> Result<Bv, Error> {
+        self.bvs[c.index()]
+            .get_or_init(|| {
+                let points = points_of(model, c);
+                let kind = model.conditions().kind(c.index());
+                Geometry::new(kind, &points)
+                    .and_then(|g| {
+                        Bv::build(
+                            &g,
+                            self.cx.dim,
+                            self.bbf,
+                            self.cx.params.octree.build_from_bounding_box,
+                            self.cx.compatibility,
+                        )
+                    })
+                    .map_err(|e| e.to_string())
             })
-            .map_err(|e| geometry_error(model, c, e.to_string()))?;
-        self.bvs[c.index()] = Some(bv);
-        Ok(bv)
+            .clone()
+            .map_err(|message| geometry_error(model, c, message))
     }
 
     /// Kratos' `HasIntersection(S, M)`: with BOUNDARY one OBB per whole face and the SAT or
     /// Direct test of `OBB_intersection_type`; without, the exact face–face test.
     fn has_intersection(
-        &mut self,
+        &self,
         model: &ModelPart,
         s: ConditionIdx,
         m: ConditionIdx,
@@ -226,54 +238,106 @@ impl Search<'_> {
                 _ => true,
             })
         } else {
-            let pa = self.pieces(model, s).map(<[Piece]>::to_vec);
-            let pb = self.pieces(model, m);
-            Ok(match (pa, pb) {
-                (Some(pa), Some(pb)) => pieces_intersect(&pa, pb),
+            Ok(match (self.pieces(model, s), self.pieces(model, m)) {
+                (Some(pa), Some(pb)) => pieces_intersect(pa, pb),
                 _ => false,
             })
         }
     }
 
-    /// `MarkIfIntersected` for a SLAVE condition `s` with leaves `leaves`.
-    fn mark_if_intersected(
-        &mut self,
-        model: &mut ModelPart,
+    /// The read-only half of `MarkIfIntersected` for a SLAVE condition `s`: its leaves into
+    /// `leaves`, and into `outcomes` the answers of `HasIntersection(s, m)` for each master
+    /// `m` at its first visit (leaf by leaf, in stored order), in that order: the calls the
+    /// serial `MarkIfIntersected` makes, whose answers [`replay_mark`] then applies. `scratch`:
+    /// the visits, reused.
+    fn mark_outcomes(
+        &self,
+        model: &ModelPart,
         s: ConditionIdx,
-        leaves: &[LeafId],
+        leaves: &mut Vec<LeafId>,
+        outcomes: &mut Vec<bool>,
+        scratch: &mut Vec<(ConditionIdx, u32)>,
     ) -> Result<(), Error> {
-        model.conditions_mut().flags_mut()[s.index()].reset(Flag::SELECTED);
-        for &leaf in leaves {
-            let items = self.octree.leaf_items(leaf).to_vec();
-            let flags = model.conditions_mut().flags_mut();
-            for m in &items {
-                if !flags[m.index()].is(Flag::VISITED) {
-                    flags[m.index()].reset(Flag::SELECTED);
-                }
-            }
-            for m in items {
-                if model.conditions().flags()[m.index()].is(Flag::VISITED) {
-                    continue;
-                }
-                if self.has_intersection(model, s, m)? {
-                    let flags = model.conditions_mut().flags_mut();
-                    flags[s.index()].set(Flag::SELECTED, true);
-                    flags[m.index()].set(Flag::SELECTED, true);
-                }
-                model.conditions_mut().flags_mut()[m.index()].set(Flag::VISITED, true);
+        self.leaves(model, s, leaves)?;
+        // Every visit (master, position); a master's first visit is its lowest position.
+        scratch.clear();
+        let mut position = 0u32;
+        for &leaf in leaves.iter() {
+            for &m in self.octree.leaf_items(leaf) {
+                scratch.push((m, position));
+                position += 1;
             }
         }
-        for &leaf in leaves {
-            for m in self.octree.leaf_items(leaf) {
-                model.conditions_mut().flags_mut()[m.index()].reset(Flag::VISITED);
-            }
+        scratch.sort_unstable();
+        scratch.dedup_by_key(|(m, _)| *m);
+        scratch.sort_unstable_by_key(|&(_, position)| position);
+        for &(m, _) in scratch.iter() {
+            outcomes.push(self.has_intersection(model, s, m)?);
         }
         Ok(())
     }
 }
 
+/// `MarkIfIntersected` for a SLAVE condition `s` with leaves `leaves`, the answers of its
+/// `HasIntersection` calls taken in order from `outcomes` ([`Search::mark_outcomes`]): SELECTED
+/// is reset on the slave and on every master of its leaves at its first visit, and set on
+/// both where the answer is yes; VISITED marks the visited masters meanwhile (it is clear
+/// before and after).
+fn replay_mark(
+    model: &mut ModelPart,
+    octree: &Octree<ConditionIdx>,
+    s: ConditionIdx,
+    leaves: &[LeafId],
+    outcomes: &[bool],
+) {
+    let flags = model.conditions_mut().flags_mut();
+    flags[s.index()].reset(Flag::SELECTED);
+    let mut answers = outcomes.iter();
+    for &leaf in leaves {
+        let items = octree.leaf_items(leaf);
+        for m in items {
+            if !flags[m.index()].is(Flag::VISITED) {
+                flags[m.index()].reset(Flag::SELECTED);
+            }
+        }
+        for m in items {
+            if flags[m.index()].is(Flag::VISITED) {
+                continue;
+            }
+            // `mark_outcomes` answered every first visit.
+            if answers.next().copied().unwrap_or(false) {
+                flags[s.index()].set(Flag::SELECTED, true);
+                flags[m.index()].set(Flag::SELECTED, true);
+            }
+            flags[m.index()].set(Flag::VISITED, true);
+        }
+    }
+    debug_assert!(answers.next().is_none());
+    for &leaf in leaves {
+        for m in octree.leaf_items(leaf) {
+            flags[m.index()].reset(Flag::VISITED);
+        }
+    }
+}
+
+/// Slaves per task of the parallel half of the loop.
+const MARK_CHUNK: usize = 256;
+
+/// The read-only half of the loop for a run of slaves, flat: slave `j`'s leaves and answers
+/// are the next `spans[j]` entries of `leaves` and `outcomes`, or its error.
+#[derive(Default)]
+struct MarkChunk {
+    leaves: Vec<LeafId>,
+    outcomes: Vec<bool>,
+    spans: Vec<Result<(usize, usize), Error>>,
+}
+
 /// SearchUsingOcTree (§8): fills the slaves' INDEX_MAPs (MappingCheck) or pushes the created
 /// (slave, master) pairs (No/DirectCheck); returns what it saw (warnings, root box, bbf).
+///
+/// The octree's storage and the slaves' leaves and intersection tests run in parallel (they
+/// only read the model); the flags, the pairing and every error come in Kratos' serial order
+/// afterwards, so the result is the serial loop's for any thread count.
 pub(crate) fn search_octree_report(
     model: &mut ModelPart,
     cx: &OctreeContext<'_>,
@@ -333,14 +397,15 @@ pub(crate) fn search_octree_report(
 
     // 2. The root box. Robust with OBBs: it also covers the OBB of every slave-side and
     // master condition, so every point two OBBs share lies in a leaf.
+    let n_conditions = model.conditions().len();
     let mut search = Search {
         cx,
         octree: Octree::with_kratos_params(Point::origin(), Point::new(1.0, 1.0, 1.0))
             .map_err(tree_error)?,
         bbf,
         robust,
-        pieces: vec![None; model.conditions().len()],
-        bvs: vec![None; model.conditions().len()],
+        pieces: (0..n_conditions).map(|_| OnceLock::new()).collect(),
+        bvs: (0..n_conditions).map(|_| OnceLock::new()).collect(),
     };
     let coords = model.nodes().coordinates();
     let mut box_points: Vec<Point> = slave_nodes
@@ -371,7 +436,8 @@ pub(crate) fn search_octree_report(
     };
     report.root = Some((low, high));
 
-    // 3. Refine around the master nodes, then store the master conditions.
+    // 3. Refine around the master nodes, then store the master conditions in ascending id
+    // order: each master's leaves found in parallel, then stored in that order.
     search.octree = Octree::with_kratos_params(low, high).map_err(tree_error)?;
     for n in &master_nodes {
         search
@@ -379,16 +445,34 @@ pub(crate) fn search_octree_report(
             .insert_point(&model.nodes().coordinates()[n.index()])
             .map_err(tree_error)?;
     }
+    let walks: Vec<Result<Option<Vec<LeafId>>, Error>> = {
+        let (search, model) = (&search, &*model);
+        masters
+            .par_iter()
+            .map(|&m| {
+                let Some((test, aabb)) = search.cell_test(model, m)? else {
+                    return Ok(None);
+                };
+                let mut leaves = Vec::new();
+                search
+                    .octree
+                    .intersected_leaves_with(&aabb, |cell| test.overlaps(cell), &mut leaves)
+                    .map_err(tree_error)?;
+                Ok(Some(leaves))
+            })
+            .collect()
+    };
     let mut untestable: BTreeSet<GeometryKind> = BTreeSet::new();
-    for &m in &masters {
-        let Some((test, aabb)) = search.cell_test(model, m)? else {
-            untestable.insert(model.conditions().kind(m.index()));
-            continue;
-        };
-        search
-            .octree
-            .insert_with(m, &aabb, |cell| test.overlaps(cell))
-            .map_err(tree_error)?;
+    for (&m, walk) in masters.iter().zip(walks) {
+        match walk? {
+            Some(leaves) => search
+                .octree
+                .insert_in_leaves(m, &leaves)
+                .map_err(tree_error)?,
+            None => {
+                untestable.insert(model.conditions().kind(m.index()));
+            }
+        }
     }
     for kind in &untestable {
         report.warnings.push(format!(
@@ -400,13 +484,62 @@ pub(crate) fn search_octree_report(
     }
     report.n_leaves = search.octree.n_leaves();
 
-    // 4. The serial loop.
-    let nodal_h = h.to_vec();
+    // DirectCheck's NODAL_H, read while the pairings change the model.
+    let nodal_h = match p.check_gap {
+        CheckGap::DirectCheck => h.to_vec(),
+        _ => Vec::new(),
+    };
+    // 4. The loop over the conditions in ascending id order. Its read-only half first, in
+    // parallel: every slave's leaves and the answers of its intersection tests. VISITED is
+    // the marking's own scratch flag, clear between two slaves (a step that failed inside a
+    // marking may have left it set).
+    for &m in &masters {
+        model.conditions_mut().flags_mut()[m.index()].reset(Flag::VISITED);
+    }
+    let loop_slaves: Vec<ConditionIdx> = conditions
+        .iter()
+        .copied()
+        .filter(|c| {
+            let f = model.conditions().flags()[c.index()];
+            f.is_defined(Flag::ACTIVE) && f.is(Flag::SLAVE)
+        })
+        .collect();
+    let marks: Vec<MarkChunk> = {
+        let (search, model) = (&search, &*model);
+        loop_slaves
+            .par_chunks(MARK_CHUNK)
+            .map_init(
+                || (Vec::new(), Vec::new()),
+                |(visits, own), chunk| {
+                    let mut out = MarkChunk::default();
+                    for &s in chunk {
+                        let o0 = out.outcomes.len();
+                        let done = search.mark_outcomes(model, s, own, &mut out.outcomes, visits);
+                        out.spans.push(match done {
+                            Ok(()) => {
+                                out.leaves.extend_from_slice(own);
+                                Ok((own.len(), out.outcomes.len() - o0))
+                            }
+                            Err(e) => {
+                                out.outcomes.truncate(o0);
+                                Err(e)
+                            }
+                        });
+                    }
+                    out
+                },
+            )
+            .collect()
+    };
+
+    // The serial half, in Kratos' order: each slave's marking applied to the flags, then
+    // the pairings.
+    let mut marked = MarkCursor::new(&marks);
     let acf = model
         .process_info()
         .number("ACTIVE_CHECK_FACTOR")
         .unwrap_or(0.0);
-    let mut leaves = Vec::new();
+    let mut other_leaves = Vec::new();
     let mut paired: Vec<ConditionIdx> = Vec::new();
     for &c in &conditions {
         let flags = model.conditions().flags()[c.index()];
@@ -419,16 +552,20 @@ pub(crate) fn search_octree_report(
         if !is_slave && (robust || !flags.is(Flag::SELECTED)) {
             continue;
         }
-        search.leaves(model, c, &mut leaves)?;
-        if is_slave {
-            search.mark_if_intersected(model, c, &leaves)?;
-        }
+        let leaves: &[LeafId] = if is_slave {
+            let (leaves, outcomes) = marked.next()?;
+            replay_mark(model, &search.octree, c, leaves, outcomes);
+            leaves
+        } else {
+            search.leaves(model, c, &mut other_leaves)?;
+            &other_leaves
+        };
         if !model.conditions().flags()[c.index()].is(Flag::SELECTED) {
             continue;
         }
         paired.clear();
         let slave_id = ConditionId(model.conditions().ids()[c.index()]);
-        for &leaf in &leaves {
+        for &leaf in leaves {
             for &m in search.octree.leaf_items(leaf) {
                 if !model.conditions().flags()[m.index()].is(Flag::SELECTED) {
                     continue;
@@ -495,6 +632,51 @@ pub(crate) fn search_octree_report(
     Ok(report)
 }
 
+/// Walks the slaves of the parallel half in order.
+struct MarkCursor<'m> {
+    chunks: &'m [MarkChunk],
+    chunk: usize,
+    span: usize,
+    leaf: usize,
+    outcome: usize,
+}
+
+impl<'m> MarkCursor<'m> {
+    fn new(chunks: &'m [MarkChunk]) -> MarkCursor<'m> {
+        MarkCursor {
+            chunks,
+            chunk: 0,
+            span: 0,
+            leaf: 0,
+            outcome: 0,
+        }
+    }
+
+    /// The next slave's leaves and answers, or its error.
+    fn next(&mut self) -> Result<(&'m [LeafId], &'m [bool]), Error> {
+        while self
+            .chunks
+            .get(self.chunk)
+            .is_some_and(|c| self.span == c.spans.len())
+        {
+            (self.chunk, self.span, self.leaf, self.outcome) = (self.chunk + 1, 0, 0, 0);
+        }
+        let Some(chunk) = self.chunks.get(self.chunk) else {
+            return Err(
+                ErrorKind::Model("octree search: a slave without its marking".to_owned()).into(),
+            );
+        };
+        let span = chunk.spans[self.span].clone()?;
+        self.span += 1;
+        let (nl, no) = span;
+        let leaves = &chunk.leaves[self.leaf..self.leaf + nl];
+        let outcomes = &chunk.outcomes[self.outcome..self.outcome + no];
+        self.leaf += nl;
+        self.outcome += no;
+        Ok((leaves, outcomes))
+    }
+}
+
 /// The master normal of the octree's `AddPotentialPairing`: `UnitNormal` at local (0,0,0).
 fn master_unit_normal(model: &ModelPart, m: ConditionIdx) -> Result<Vector, Error> {
     let points = points_of(model, m);
@@ -512,14 +694,20 @@ fn add_potential_pairing(
     s: ConditionIdx,
     node_pass: u32,
 ) -> bool {
-    let nodes: Vec<NodeIdx> = slave_search_nodes(model, s, cx.slave_nodes).to_vec();
+    // Copied out (the node flags change below), on the stack.
+    let mut copy = [NodeIdx(0); MAX_FACE_NODES];
+    let search_nodes = slave_search_nodes(model, s, cx.slave_nodes);
+    debug_assert!(search_nodes.len() <= MAX_FACE_NODES);
+    let n = search_nodes.len().min(MAX_FACE_NODES);
+    copy[..n].copy_from_slice(&search_nodes[..n]);
+    let nodes = &copy[..n];
     let flags = model.nodes_mut().flags_mut();
     match cx.params.check_gap {
         CheckGap::DirectCheck => {
-            direct_check_count(flags, &nodes, node_pass, cx.active_before.as_deref())
+            direct_check_count(flags, nodes, node_pass, cx.active_before.as_deref())
         }
         _ => {
-            for n in &nodes {
+            for n in nodes {
                 flags[n.index()].set(Flag::ACTIVE, true);
             }
             true

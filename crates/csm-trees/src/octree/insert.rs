@@ -3,7 +3,7 @@
 use crate::aabb::Aabb;
 use crate::error::Error;
 
-use super::tree::Octree;
+use super::tree::{LeafId, Octree};
 
 impl<T: Copy> Octree<T> {
     /// Stores `item` in every leaf whose box, grown by the cell tolerance, overlaps `aabb`
@@ -34,6 +34,30 @@ impl<T: Copy> Octree<T> {
         self.for_each_intersected_leaf(aabb, &mut overlaps, |leaf| hits.push(leaf));
         for leaf in hits {
             self.cells[leaf as usize].objects.push(item);
+        }
+        self.n_objects += 1;
+        Ok(())
+    }
+
+    /// Stores `item` in `leaves`, as [`Octree::insert_with`] stores it in the leaves its walk
+    /// finds: an insertion split in two, the walk ([`Octree::intersected_leaves_with`], the
+    /// same walk, read-only, so the objects' walks may run in parallel) and this store, made
+    /// in the objects' order so that each leaf lists them as the insertions in that order
+    /// would. Counts as one inserted object; afterwards the octree can no longer be refined.
+    ///
+    /// Errors: [`crate::ErrorKind::NotALeaf`] when some id is not a leaf of this octree (an
+    /// id from another octree, or from before a refinement); nothing is stored then.
+    pub fn insert_in_leaves(&mut self, item: T, leaves: &[LeafId]) -> Result<(), Error> {
+        let is_leaf = |leaf: &LeafId| {
+            self.cells
+                .get(leaf.0 as usize)
+                .is_some_and(|cell| cell.children.is_none())
+        };
+        if !leaves.iter().all(is_leaf) {
+            return Err(Error::new(crate::ErrorKind::NotALeaf));
+        }
+        for leaf in leaves {
+            self.cells[leaf.0 as usize].objects.push(item);
         }
         self.n_objects += 1;
         Ok(())

@@ -1,7 +1,8 @@
 //! Unit tests of the octree: Kratos' parameters and refinement, leaf order, the per-leaf
-//! listing with duplicates, the absolute cell tolerance (Q17) and typed errors.
+//! listing with duplicates, the absolute cell tolerance (Q17), the insertion split into walk
+//! and store, and typed errors.
 
-use csm_geometry::math::{Point, Real};
+use csm_geometry::math::{Point, Real, Vector};
 
 use super::tree::{LeafId, Octree, OctreeParams};
 use crate::{Aabb, ErrorKind};
@@ -180,6 +181,107 @@ fn insert_with_uses_the_callers_test() {
         .intersected_leaves_with(&aabb, |_| false, &mut leaves)
         .unwrap();
     assert!(leaves.is_empty());
+}
+
+/// Walking every object first (read-only) and storing them afterwards in the same order fills
+/// every leaf as inserting them one by one does: the same objects in the same order.
+#[test]
+fn walk_then_store_is_insert_with() {
+    let params = OctreeParams {
+        min_level: 7,
+        ..OctreeParams::default()
+    };
+    let new = || {
+        let mut octree = Octree::new(p(-1.0, -1.0, -1.0), p(1.0, 1.0, 1.0), params).unwrap();
+        for i in 0..40 {
+            let t = Real::from(i) * 0.37;
+            octree
+                .insert_point(&p(0.9 * t.sin(), 0.8 * (2.0 * t).cos(), 0.1 * t - 0.9))
+                .unwrap();
+        }
+        octree
+    };
+    // Boxes of several sizes, some reaching outside the root box, and an object test that
+    // keeps only some of the leaves a box reaches.
+    let objects: Vec<(u32, Aabb)> = (0..60u32)
+        .map(|i| {
+            let t = Real::from(i) * 0.61;
+            let c = p(
+                0.95 * t.cos(),
+                0.95 * (1.3 * t).sin(),
+                0.9 * (0.7 * t).cos(),
+            );
+            let h = 0.02 + 0.3 * Real::from(i % 7) / 7.0;
+            (i, Aabb::new(c - Vector::repeat(h), c + Vector::repeat(h)))
+        })
+        .collect();
+    let test = |cell: &Aabb| cell.mins.x + cell.mins.y < 0.8;
+    let mut one_by_one = new();
+    for (item, aabb) in &objects {
+        one_by_one.insert_with(*item, aabb, test).unwrap();
+    }
+    let mut split = new();
+    let walks: Vec<Vec<LeafId>> = objects
+        .iter()
+        .map(|(_, aabb)| {
+            let mut leaves = Vec::new();
+            split
+                .intersected_leaves_with(aabb, test, &mut leaves)
+                .unwrap();
+            leaves
+        })
+        .collect();
+    for ((item, _), leaves) in objects.iter().zip(&walks) {
+        split.insert_in_leaves(*item, leaves).unwrap();
+    }
+    assert_eq!(split.n_objects(), one_by_one.n_objects());
+    assert_eq!(split.n_leaves(), one_by_one.n_leaves());
+    let all = Aabb::new(p(-1.0, -1.0, -1.0), p(1.0, 1.0, 1.0));
+    let mut leaves = Vec::new();
+    one_by_one.intersected_leaves(&all, &mut leaves).unwrap();
+    let mut stored = 0;
+    for leaf in &leaves {
+        assert_eq!(split.leaf_items(*leaf), one_by_one.leaf_items(*leaf));
+        stored += split.leaf_items(*leaf).len();
+    }
+    // The objects reach many leaves, and the test drops some of them.
+    assert!(stored > 2 * objects.len());
+    let unfiltered: usize = objects
+        .iter()
+        .map(|(_, aabb)| {
+            one_by_one.intersected_leaves(aabb, &mut leaves).unwrap();
+            leaves.len()
+        })
+        .sum();
+    assert!(stored < unfiltered);
+}
+
+/// A leaf id of a cell refined since, or past the arena, is refused and nothing stored.
+#[test]
+fn storing_in_a_cell_that_is_no_leaf_fails() {
+    let params = OctreeParams::default();
+    let mut octree = Octree::<u32>::new(p(0.0, 0.0, 0.0), p(1.0, 1.0, 1.0), params).unwrap();
+    let mut before = Vec::new();
+    octree
+        .intersected_leaves(&cube(0.1, 0.2), &mut before)
+        .unwrap();
+    assert_eq!(before.len(), 1);
+    octree.insert_point(&p(0.15, 0.15, 0.15)).unwrap();
+    let err = octree.insert_in_leaves(7, &before).unwrap_err();
+    assert_eq!(err.kind(), &ErrorKind::NotALeaf);
+    assert!(!err.to_string().is_empty());
+    // A valid leaf beside an id past the arena (another, larger octree's).
+    let mut fresh = Vec::new();
+    octree
+        .intersected_leaves(&cube(0.1, 0.2), &mut fresh)
+        .unwrap();
+    let mut err_leaves = fresh.clone();
+    err_leaves.push(LeafId(u32::MAX));
+    assert!(octree.insert_in_leaves(7, &err_leaves).is_err());
+    assert_eq!(octree.n_objects(), 0);
+    assert!(fresh.iter().all(|l| octree.leaf_items(*l).is_empty()));
+    // Still refinable: nothing was stored.
+    octree.insert_point(&p(0.16, 0.16, 0.16)).unwrap();
 }
 
 #[test]

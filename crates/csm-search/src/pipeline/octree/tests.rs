@@ -546,3 +546,67 @@ fn root_box_pads_like_kratos_and_thickens_in_robust_mode() {
     let (lo, hi) = root_box::root_box(&pts, 0.025, &params, 0, Compatibility::Robust).unwrap();
     assert!(lo.z <= -0.025 && hi.z >= 0.025);
 }
+
+/// The octree's storage and the slaves' markings run in parallel runs of [`MARK_CHUNK`]
+/// slaves, and the flags and pairs come in the serial order afterwards: on scenes of more
+/// than two runs of slaves, the pairs (in creation order), the INDEX_MAPs and every
+/// condition's and node's flags are the same with 1, 2 and 3 threads, in both modes, with and
+/// without OBBs and with each gap check; and robust mode's pairs are still exactly the pairs
+/// whose OBBs intersect (a slave given another slave's marking would break it).
+#[test]
+fn the_parallel_octree_search_is_the_serial_one() {
+    let no_obb = r#", "octree_search_parameters": {"bounding_box_factor": 0.0}"#;
+    let cases = [
+        ("no_check", "kratos", ""),
+        ("no_check", "robust", ""),
+        ("mapping_check", "kratos", ""),
+        ("direct_check", "kratos", ""),
+        ("direct_check", "robust", ""),
+        ("no_check", "kratos", no_obb),
+    ];
+    let n = 17;
+    assert!(2 * n * n > 2 * MARK_CHUNK);
+    for (check_gap, compat, extra) in cases {
+        let s = setup(check_gap, compat, extra);
+        let run_with = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let mut model = plates(GeometryKind::Triangle3D3, n, -0.02, 0.01);
+                let (created, report) = search_directly(&mut model, &s, 3, 3);
+                let ids = model.conditions().ids();
+                let created: Vec<(u32, u32)> = created
+                    .iter()
+                    .map(|(a, b)| (ids[a.index()], ids[b.index()]))
+                    .collect();
+                let maps: Vec<Vec<u32>> = (0..model.conditions().len())
+                    .map(|c| {
+                        model
+                            .index_map(ConditionIdx(c as u32))
+                            .masters()
+                            .map(ConditionId::get)
+                            .collect()
+                    })
+                    .collect();
+                let condition_flags = model.conditions().flags().to_vec();
+                let node_flags = model.nodes().flags().to_vec();
+                (created, maps, condition_flags, node_flags, report.n_leaves)
+            })
+        };
+        let one = run_with(1);
+        let pairs: usize = one.1.iter().map(Vec::len).sum();
+        assert!(pairs > 0, "{check_gap} {compat} {extra}");
+        if check_gap != "mapping_check" {
+            assert!(!one.0.is_empty(), "{check_gap} {compat} {extra}");
+        }
+        assert!(one == run_with(2), "{check_gap} {compat} {extra}");
+        assert!(one == run_with(3), "{check_gap} {compat} {extra}");
+        if (check_gap, compat, extra) == ("no_check", "robust", "") {
+            let mut model = plates(GeometryKind::Triangle3D3, n, -0.02, 0.01);
+            let r = run(&mut model, &s);
+            assert_eq!(found(&r), obb_oracle(&model, 3, SatMode::Robust));
+        }
+    }
+}
