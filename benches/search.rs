@@ -4,10 +4,10 @@
 use std::hint::black_box;
 use std::path::Path;
 
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
 use csm::geometry::math::{Point, Vector};
-use csm::geometry::{Obb, ObbIntersection, SatMode};
-use csm::trees::KdTree;
+use csm::geometry::{Geometry, GeometryKind, Kdop18, Obb, ObbIntersection, SatMode};
+use csm::trees::{Aabb, KdTree, Octree};
 
 /// A deterministic cloud of `n` points in the unit cube (xorshift).
 fn cloud(n: usize) -> Vec<(u32, Point)> {
@@ -72,6 +72,77 @@ fn kdtree(c: &mut Criterion) {
     });
 }
 
+/// Small boxes around the points of `cloud(n)`, as the faces of a mesh of that many faces.
+fn boxes(n: usize) -> Vec<(u32, Aabb)> {
+    let h = 0.5 / (n as f64).cbrt();
+    cloud(n)
+        .into_iter()
+        .map(|(i, p)| (i, Aabb::new(p - Vector::repeat(h), p + Vector::repeat(h))))
+        .collect()
+}
+
+fn octree(c: &mut Criterion) {
+    let points = cloud(10_000);
+    let objects = boxes(10_000);
+    let build = || {
+        let mut octree =
+            Octree::with_kratos_params(Point::new(0.0, 0.0, 0.0), Point::new(1.0, 1.0, 1.0))
+                .unwrap();
+        for (_, p) in &points {
+            octree.insert_point(p).unwrap();
+        }
+        for (item, aabb) in &objects {
+            octree.insert(*item, aabb).unwrap();
+        }
+        octree
+    };
+    c.bench_function("octree refine 1e4 points + insert 1e4 boxes", |b| {
+        b.iter(|| black_box(build().n_leaves()))
+    });
+    let octree = build();
+    let mut out = Vec::new();
+    c.bench_function("octree query_aabb 1e3 boxes", |b| {
+        b.iter(|| {
+            for (_, aabb) in objects.iter().take(1000) {
+                octree.query_aabb(aabb, &mut out).unwrap();
+                black_box(out.len());
+            }
+        })
+    });
+}
+
+/// Bounding volumes of 1e3 triangles: Kratos' OBB (both branches) and the 18-DOP.
+fn bounding_volumes(c: &mut Criterion) {
+    let corners = cloud(3000);
+    let triangles: Vec<[Point; 3]> = corners
+        .chunks(3)
+        .map(|t| [t[0].1, t[1].1, t[2].1])
+        .collect();
+    for from_aabb in [true, false] {
+        c.bench_function(
+            &format!("obb build 1e3 triangles (from AABB: {from_aabb})"),
+            |b| {
+                b.iter(|| {
+                    for t in &triangles {
+                        let g = Geometry::new(GeometryKind::Triangle3D3, t).unwrap();
+                        black_box(Obb::from_geometry(&g, 0.01, from_aabb).unwrap());
+                    }
+                })
+            },
+        );
+    }
+    c.bench_function("kdop18 build + test 1e3 triangles", |b| {
+        let first = Kdop18::from_points(&triangles[0]).enlarged(0.01);
+        b.iter(|| {
+            let mut hits = 0;
+            for t in &triangles {
+                hits += usize::from(Kdop18::from_points(t).enlarged(0.01).intersects(&first));
+            }
+            black_box(hits)
+        })
+    });
+}
+
 fn sat(c: &mut Criterion) {
     let a = Obb::new(
         Point::new(0.0, 0.0, 0.0),
@@ -101,13 +172,15 @@ fn search_step(c: &mut Criterion) {
         "bench",
     )
     .unwrap();
+    // The model's copy is made outside the timing.
     c.bench_function("search step sphere_on_plate_tri (736 slave faces)", |b| {
-        b.iter(|| {
-            let mut m = model.clone();
-            csm::cli::run_search(&mut m, &setup, 0.0).unwrap()
-        })
+        b.iter_batched(
+            || model.clone(),
+            |mut m| csm::cli::run_search(&mut m, &setup, 0.0).unwrap(),
+            BatchSize::LargeInput,
+        )
     });
 }
 
-criterion_group!(benches, kdtree, sat, search_step);
+criterion_group!(benches, kdtree, octree, bounding_volumes, sat, search_step);
 criterion_main!(benches);

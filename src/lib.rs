@@ -8,8 +8,6 @@
 //! This facade re-exports the layers and holds only the composition (the command-line
 //! tool's commands). No algorithm lives here.
 //!
-//! | layer | what it is |
-//! |---|---|
 //! | layer | what it is | feature |
 //! |---|---|---|
 //! | `geometry` | face and solid geometries, AABB, bounding sphere, OBB with SAT/Direct tests, mortar segmentation | `geometry` |
