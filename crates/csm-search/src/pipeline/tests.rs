@@ -265,6 +265,15 @@ fn direct_check_needs_the_gap_below_the_active_check_length() {
     assert!(r.nodes.values().filter(|n| n.active).count() > 0);
 }
 
+/// Runs `f` in a rayon pool of `threads` threads.
+pub(crate) fn in_pool<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
 #[test]
 fn results_are_identical_for_any_thread_count() {
     let s = setup(
@@ -272,11 +281,7 @@ fn results_are_identical_for_any_thread_count() {
         "",
     );
     let run_with = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        in_pool(threads, || {
             let mut model = plates(8, -0.005, false);
             run(&mut model, &s)
         })

@@ -569,11 +569,7 @@ fn the_parallel_octree_search_is_the_serial_one() {
     for (check_gap, compat, extra) in cases {
         let s = setup(check_gap, compat, extra);
         let run_with = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
+            crate::pipeline::tests::in_pool(threads, || {
                 let mut model = plates(GeometryKind::Triangle3D3, n, -0.02, 0.01);
                 let (created, report) = search_directly(&mut model, &s, 3, 3);
                 let ids = model.conditions().ids();
