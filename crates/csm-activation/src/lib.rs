@@ -21,6 +21,7 @@
 
 mod activation;
 mod error;
+mod face;
 mod mapping;
 mod multiplier;
 mod overlap;

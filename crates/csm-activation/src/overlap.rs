@@ -6,7 +6,8 @@ use csm_geometry::{SegmentationSettings, exact_segmentation};
 use csm_model::{ConditionIdx, ModelPart, PartIdx};
 
 use crate::error::Error;
-use crate::mapping::{face_data, make_face, mean_normals, sides};
+use crate::face::{face_data, make_face};
+use crate::mapping::{mean_normals, sides};
 
 /// Step 2 of [`normal_gap_process`](crate::normal_gap_process) alone: the nodal mean normals
 /// and the condition normals (unit normal at the centre) of the master side, then of the slave

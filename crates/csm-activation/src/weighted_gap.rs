@@ -11,7 +11,7 @@ use csm_model::{ConditionIdx, ModelPart, PartIdx, ScalarVar};
 use rayon::prelude::*;
 
 use crate::error::Error;
-use crate::mapping::{FaceData, face_data, make_face};
+use crate::face::{FaceData, face_data, make_face};
 
 /// A pair contributes only if `overlap area / slave area > WEIGHTED_GAP_AREA_RATIO`.
 pub const WEIGHTED_GAP_AREA_RATIO: Real = 1e-5;

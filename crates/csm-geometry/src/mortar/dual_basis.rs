@@ -13,7 +13,7 @@
 //! condition number ≥ 1e20) gets the standard one. (The reference's "`|det(Me/f)| ≥ ε`" rule
 //! gave the standard basis to the first kind and NODAL_AREA differences up to 1.7e-4.)
 
-use super::face::MortarFace;
+use super::face::{MortarFace, MortarMode};
 use super::face_matrix::{FaceMatrix, MAX_MORTAR_FACE_NODES, face_shape_values};
 use super::integration_points::MortarIntegrationPoint;
 use crate::math::{EPS, Real};
@@ -70,6 +70,17 @@ impl DualBasis {
 /// ∫ N_j` over the pair's cells); otherwise the identity (flag false). No Gauss points (all cells
 /// degenerate) gives the identity. See the module docs for the arithmetic and the rule.
 pub fn dual_basis(slave: &MortarFace<'_>, points: &[MortarIntegrationPoint]) -> DualBasis {
+    dual_basis_in(slave, points, MortarMode::Kratos)
+}
+
+/// [`dual_basis`] under the rules of `mode`: [`MortarMode::Kratos`] as Kratos ([`dual_ae`]),
+/// [`MortarMode::Robust`] without the absolute floor on `‖Me‖_F` ([`dual_ae_in`]), so that a
+/// scaled mesh gets the dual basis wherever the unscaled one does.
+pub fn dual_basis_in(
+    slave: &MortarFace<'_>,
+    points: &[MortarIntegrationPoint],
+    mode: MortarMode,
+) -> DualBasis {
     let sg = slave.geometry();
     let n = sg.kind().n_nodes();
     let mut de = FaceMatrix::zeros(n, n);
@@ -84,7 +95,7 @@ pub fn dual_basis(slave: &MortarFace<'_>, points: &[MortarIntegrationPoint]) -> 
             }
         }
     }
-    match dual_ae(&de, &me) {
+    match dual_ae_in(&de, &me, mode) {
         Some(ae) => DualBasis { ae, is_dual: true },
         None => DualBasis::identity(n),
     }
@@ -103,12 +114,24 @@ pub const MAX_ME_CONDITION_NUMBER: Real = 1.0e-4 / EPS;
 /// not: a non-finite inverse also gives the standard basis, in both modes (a NaN is never a
 /// result; docs/conformance.md). No fixture pair has an exactly singular `Me`.
 pub fn dual_ae(de: &FaceMatrix, me: &FaceMatrix) -> Option<FaceMatrix> {
+    dual_ae_in(de, me, MortarMode::Kratos)
+}
+
+/// [`dual_ae`] under the rules of `mode`. [`MortarMode::Kratos`] refuses `‖Me‖_F < ε`, an
+/// absolute floor on an area: below a scale of about 1e-8 every pair gets the standard basis.
+/// [`MortarMode::Robust`] refuses only `‖Me‖_F` that is zero or not finite; the condition
+/// number, which decides the rest, is scale-free (`Me/f`).
+pub fn dual_ae_in(de: &FaceMatrix, me: &FaceMatrix, mode: MortarMode) -> Option<FaceMatrix> {
     let n = me.nrows();
     if de.nrows() != n || de.ncols() != n {
         return None;
     }
     let f = frobenius(me);
-    if f.is_nan() || f < EPS {
+    let refused = match mode {
+        MortarMode::Kratos => f.is_nan() || f < EPS,
+        MortarMode::Robust => !(f.is_finite() && f > 0.0),
+    };
+    if refused {
         return None;
     }
     let scaled = me.map(|x| x / f);

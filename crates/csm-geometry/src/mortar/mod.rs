@@ -26,7 +26,9 @@ mod segmentation;
 mod tests;
 
 pub use cell::{MortarCell, Segmentation};
-pub use dual_basis::{DualBasis, MAX_ME_CONDITION_NUMBER, dual_ae, dual_basis};
+pub use dual_basis::{
+    DualBasis, MAX_ME_CONDITION_NUMBER, dual_ae, dual_ae_in, dual_basis, dual_basis_in,
+};
 pub use face::{
     CLIPPING_TOLERANCE, DUPLICATE_POINT_TOLERANCE, MortarFace, MortarMode,
     NEWTON_2D_MAX_ITERATIONS, NEWTON_2D_TOLERANCE, ROBUST_AREA_FACTOR, SegmentationSettings,

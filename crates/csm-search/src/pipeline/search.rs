@@ -1067,6 +1067,7 @@ fn check_pairing(
         ),
     };
     crate::trace::mark("mapping");
+    let mapping_warnings = report.warnings(mode);
     let ids = model.conditions().ids();
     pair.pruned = report
         .removed
@@ -1172,7 +1173,9 @@ fn check_pairing(
         },
     );
     crate::trace::mark("activation");
-    Ok(report.warnings)
+    let mut warnings = mapping_warnings;
+    warnings.extend(report.warnings);
+    Ok(warnings)
 }
 
 /// What the ground truth's pair finder is told about the pair it searches

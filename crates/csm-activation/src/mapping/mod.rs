@@ -1,0 +1,435 @@
+//! NormalGapProcess and the explicit dual-mortar mapper (reference §10.1 a–b, §10.2).
+//!
+//! - [`sides`]: the slave and master sides of a ContactSub, the mapper's slave-node numbering;
+//! - [`mean_normals`]: the nodal mean normals the mapping writes first;
+//! - [`segment`]: the exact segmentation of every INDEX_MAP entry, the kept pairs' operators;
+//! - [`stream`]: the first two iterations streamed with the segmentation (large interfaces);
+//! - [`iterate`]: the mapper's iterations (residuals, nodal areas);
+//! - this module: the process itself, step by step, and `ComputeNormalGap`.
+
+mod iterate;
+mod mean_normals;
+mod segment;
+mod sides;
+mod stream;
+
+use csm_geometry::math::{EPS, Real, Vector, norm_kratos};
+use csm_geometry::{LargestArea, MortarMode, OperatorSettings, SegmentationSettings};
+use csm_model::{
+    ConditionId, ConditionIdx, Flag, GATHER_BLOCK, GatheredPoints, KeptFaceNormals, ModelPart,
+    PartIdx, ScalarVar, VectorVar,
+};
+
+use rayon::prelude::*;
+
+use crate::error::Error;
+use crate::weighted_gap::KnownGaps;
+
+pub(crate) use mean_normals::{mean_normals, normals_read};
+pub(crate) use segment::OperatorStore;
+pub use sides::mean_h;
+pub(crate) use sides::{SlavePositions, sides};
+
+use iterate::{Segmented, kratos_iterations, solve_relative};
+use segment::{Segmenting, WeightedGapInputs, kept_only, segment_slaves};
+use stream::{stream_first_iterations, streams};
+
+/// Conditions per parallel task of the reference area.
+const CONDITIONS_PER_TASK: usize = 4096;
+
+/// `NORMAL_GAP` before the mapping (CheckPairing step a): a slave node nothing was mapped onto
+/// keeps it.
+pub const NORMAL_GAP_SENTINEL: Real = 1e12;
+/// The mapper's absolute convergence tolerance on `sqrt(Σ VAUX²) / n`.
+pub const MAPPER_ABSOLUTE_TOLERANCE: Real = 1e-9;
+/// The mapper's relative (to the first residual) and increment tolerance.
+pub const MAPPER_RELATIVE_TOLERANCE: Real = 1e-4;
+/// The mapper's iteration limit.
+pub const MAPPER_MAX_ITERATIONS: usize = 10;
+
+/// The number of distinct slave nodes (`slaves`) of the conditions `listed`.
+fn count_slave_nodes(m: &ModelPart, listed: &[ConditionIdx], slaves: &SlavePositions) -> usize {
+    let mut nodes: Vec<usize> = listed
+        .iter()
+        .flat_map(|c| m.conditions().nodes(c.index()))
+        .filter_map(|&n| slaves.get(n))
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes.len()
+}
+
+/// The coordinates of node `n` as a vector.
+fn coords_of(m: &ModelPart, n: csm_model::NodeIdx) -> Vector {
+    m.nodes().coordinates()[n.index()].coords
+}
+/// A slave node is updated only if `|NODAL_AREA| > AREA_TOLERANCE · ref_area`.
+const AREA_TOLERANCE: Real = 1e-4;
+
+/// Settings of [`normal_gap_process`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MappingSettings {
+    /// Kratos' rules or the robust segmentation.
+    pub mode: MortarMode,
+    /// `ProcessInfo[DISTANCE_THRESHOLD]` (1e24 when absent).
+    pub distance_threshold: Real,
+    /// The search's `inverted_search` (the orientation of NormalGapProcess is `!inverted`).
+    pub inverted: bool,
+    /// The domain size (2 or 3): the number of mapped components.
+    pub dim: usize,
+}
+
+/// An `INDEX_MAP` entry the mapping removed (no overlap).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RemovedEntry {
+    /// The slave-side condition.
+    pub slave: ConditionIdx,
+    /// The master condition id (the key removed).
+    pub master: ConditionId,
+    /// The paired condition of the entry, if one existed (Kratos marks it TO_ERASE).
+    pub paired: Option<ConditionId>,
+}
+
+/// What [`normal_gap_process`] did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MappingReport {
+    /// The entries removed from the `INDEX_MAP`s, in slave id then master id order.
+    pub removed: Vec<RemovedEntry>,
+    /// The entries kept (pairs with an overlap).
+    pub kept: usize,
+    /// Mapper iterations run (robust mode: 1, its direct solve, or 0 without kept pairs).
+    pub iterations: usize,
+    /// Whether the mapping reached its end by Kratos' convergence tests rather than the
+    /// iteration limit (robust mode's direct solve: always).
+    pub converged: bool,
+    /// The largest correction `|ΔAUXILIAR_COORDINATES|` of a slave node in the last
+    /// iteration, a length (robust mode: 0). Far from the origin or with a standard-basis
+    /// pair, what is left of the mapped points' error is of this order.
+    pub last_correction: Real,
+    /// Kept pairs whose `Me` was too ill-conditioned for the dual basis: their `D` is the
+    /// standard basis' (not diagonal), so Kratos' explicit iterations are no longer one exact
+    /// step (robust mode lumps that `D` and solves directly).
+    pub standard_basis_pairs: usize,
+    /// The slave nodes of the slave conditions of those pairs.
+    pub standard_basis_nodes: usize,
+}
+
+impl MappingReport {
+    /// What a user should know of this mapping's accuracy, as `RESULT.json` warnings. In
+    /// [`MortarMode::Kratos`]: where some kept pair fell back to the standard basis (then
+    /// Kratos' explicit iterations are no longer one exact step, and what they leave is a
+    /// fraction of the mapped coordinates, so it grows with the distance from the origin), or
+    /// where the iterations stopped at their limit. [`MortarMode::Robust`] solves the mapping
+    /// directly and has nothing to report.
+    pub fn warnings(&self, mode: MortarMode) -> Vec<String> {
+        if mode == MortarMode::Robust || (self.converged && self.standard_basis_pairs == 0) {
+            return Vec::new();
+        }
+        let how = if self.converged {
+            format!(
+                "stopped after {} iteration(s) by Kratos' tests",
+                self.iterations
+            )
+        } else {
+            format!("stopped at its limit of {MAPPER_MAX_ITERATIONS} iterations without converging")
+        };
+        let basis = if self.standard_basis_pairs > 0 {
+            format!(
+                "{} mapped pair(s) ({} slave node(s)) fell back to the standard mortar basis \
+                 (an ill-conditioned overlap), so Kratos' explicit mapper is not exact in one \
+                 step there; it ",
+                self.standard_basis_pairs, self.standard_basis_nodes
+            )
+        } else {
+            "the mortar mapper ".to_owned()
+        };
+        vec![format!(
+            "NORMAL_GAP: {basis}{how}, the last correction of a mapped point being {:.3e}; the \
+             mapped gap may be off by a fraction of the coordinates' distance from the origin \
+             (Kratos computes the same); \"compatibility\": \"robust\" solves the mapping \
+             directly, relative to each slave node",
+            self.last_correction
+        )]
+    }
+}
+
+/// Kratos' `NormalGapProcess` (§10.1 a–b, §10.2) on ContactSub `sub`, after the search filled
+/// the slave side's `INDEX_MAP`s:
+///
+/// 1. `NORMAL_GAP := 1e12` on every node of `sub`; `AUXILIAR_COORDINATES` := coordinates on the
+///    master side (0 on the slave side; the other way round when inverted);
+/// 2. nodal mean normals (master side, then slave side: shared nodes take the slave value) —
+///    this overwrites the historical `NORMAL` and the condition normals (Q23);
+/// 3. the exact segmentation of every `INDEX_MAP` entry: entries without overlap are removed
+///    (MappingCheck's narrow phase); dual basis and `D`, `M` operators for the others;
+/// 4. the explicit mapping iterations of `AUXILIAR_COORDINATES` (`NODAL_AREA` from the first);
+/// 5. `ComputeNormalGap`: on nodes with `SLAVE == !inverted`, `NORMAL_GAP = (X − AUX)·(−n)`
+///    where `|AUX| > eps` (else the sentinel stays, Q39); the other side's nodes get 0.
+///
+/// `face_normals`: where the caller has them, the unit normals of the faces of `sub` on the
+/// current coordinates (the table [`csm_model::compute_unit_normals`] returns, kept), which
+/// step 2 then does not compute again; `None` computes them.
+///
+/// Errors: a face the mortar routines refuse (unsupported kind, degenerate geometry).
+pub fn normal_gap_process(
+    model: &mut ModelPart,
+    sub: PartIdx,
+    settings: &MappingSettings,
+    face_normals: Option<KeptFaceNormals>,
+) -> Result<MappingReport, Error> {
+    normal_gap_process_inner(model, sub, settings, face_normals, None).map(|(report, _)| report)
+}
+
+/// [`normal_gap_process`] that also computes the weighted gap
+/// ([`crate::compute_weighted_gap`]) of every pair it keeps, from the same segmentation, for a
+/// step in which the coordinates do not move before the weighted gap: `unit_normals` (by node
+/// index) are the nodal `NORMAL` the weighted gap will read (the unit normals the caller
+/// writes back after the mapping). Face pairs only (3D); the weighted gap computes the others.
+/// `face_normals` as for [`normal_gap_process`]; with them, the mean normals are written only
+/// on the nodes whose NORMAL the mapping reads (the others keep theirs, which the caller
+/// overwrites anyway).
+pub fn normal_gap_process_keeping(
+    model: &mut ModelPart,
+    sub: PartIdx,
+    settings: &MappingSettings,
+    face_normals: Option<KeptFaceNormals>,
+    unit_normals: &[Vector],
+) -> Result<(MappingReport, KnownGaps), Error> {
+    let inputs = WeightedGapInputs {
+        unit_normals,
+        dim: settings.dim.clamp(1, 3),
+    };
+    normal_gap_process_inner(model, sub, settings, face_normals, Some(inputs))
+}
+
+fn normal_gap_process_inner(
+    model: &mut ModelPart,
+    sub: PartIdx,
+    settings: &MappingSettings,
+    face_normals: Option<KeptFaceNormals>,
+    weighted_gap: Option<WeightedGapInputs<'_>>,
+) -> Result<(MappingReport, KnownGaps), Error> {
+    let o = !settings.inverted;
+    let dim = settings.dim.clamp(1, 3);
+    let s = sides(model, sub, settings.inverted);
+    let n_nodes = model.nodes().len();
+    // 1. Sentinel and AUXILIAR_COORDINATES.
+    {
+        let sub_nodes = model.part(sub).nodes().to_vec();
+        let data = model.nodal_data_mut();
+        data.add_scalar(ScalarVar::NormalGap);
+        data.add_scalar(ScalarVar::NodalArea);
+        // AUXILIAR_COORDINATES: computed below and moved in at the end (no column of zeros
+        // to write first and copy into afterwards).
+        if let Some(col) = data.scalar_mut(ScalarVar::NormalGap, 0) {
+            for n in &sub_nodes {
+                col[n.index()] = NORMAL_GAP_SENTINEL;
+            }
+        }
+    }
+    // 2. Mean normals: origin (master side) first, destination (slave side) second.
+    // Both sides' faces from the kept table (one check, one position table).
+    let positions = face_normals.as_ref().and_then(|kept| kept.positions(model));
+    // The caller of the weighted-gap variant writes its unit normals back after the mapping:
+    // only the mean normals the mapping reads are needed there.
+    let wanted = weighted_gap.map(|_| normals_read(model, &s));
+    for conditions in [&s.master_conditions, &s.slave_conditions] {
+        mean_normals(model, (conditions, wanted.as_deref()), positions.as_ref())?;
+    }
+    // The kept table is not read again: its memory (the quadrilaterals' nodal normals) goes
+    // before the segmentation's.
+    drop((wanted, positions));
+    drop(face_normals);
+    // AUXILIAR_COORDINATES (after the mean normals, which do not read it).
+    let coords = model.nodes().coordinates();
+    let mut aux = model
+        .nodal_data()
+        .vector(VectorVar::AuxiliarCoordinates, 0)
+        .map_or_else(|| vec![Vector::zeros(); n_nodes], <[Vector]>::to_vec);
+    for n in &s.master_nodes {
+        aux[n.index()] = if o {
+            coords[n.index()].coords
+        } else {
+            Vector::zeros()
+        };
+    }
+    for n in &s.slave_nodes {
+        aux[n.index()] = if o {
+            Vector::zeros()
+        } else {
+            coords[n.index()].coords
+        };
+    }
+    // Destination reset.
+    for n in &s.slave_nodes {
+        aux[n.index()] = Vector::zeros();
+    }
+    let slaves = SlavePositions::new(&s, n_nodes);
+    // By slave node.
+    let mut area = vec![0.0; s.slave_nodes.len()];
+    let all: Vec<ConditionIdx> = s
+        .master_conditions
+        .iter()
+        .chain(&s.slave_conditions)
+        .copied()
+        .collect();
+    let m = &*model;
+    // The largest area per task (the maximum in any grouping is the serial one), and the
+    // first error in condition order.
+    let areas: Vec<Result<LargestArea, Error>> = all
+        .par_chunks(CONDITIONS_PER_TASK)
+        .map(|chunk| {
+            let mut gathered = GatheredPoints::default();
+            let mut largest = LargestArea::default();
+            for block in chunk.chunks(GATHER_BLOCK) {
+                gathered.gather(m, block.iter().copied());
+                for (k, &c) in block.iter().enumerate() {
+                    largest
+                        .add(m.conditions().kind(c.index()), gathered.points(k))
+                        .map_err(|e| {
+                            Error::condition("area", m.conditions().ids()[c.index()], &e)
+                        })?;
+                }
+            }
+            Ok(largest)
+        })
+        .collect();
+    let mut largest = LargestArea::default();
+    for a in areas {
+        largest = largest.merge(a?);
+    }
+    let ref_area = largest.value();
+    // 3. Segmentation of every INDEX_MAP entry, with the first two mapper iterations where
+    // they can follow it (`streamed`). Robust mode keeps each pair's moments relative to its
+    // slave nodes instead, for the direct solve.
+    let robust = settings.mode == MortarMode::Robust;
+    let tasks = Segmenting {
+        seg: SegmentationSettings {
+            mode: settings.mode,
+            distance_threshold: settings.distance_threshold,
+        },
+        op: OperatorSettings::mapper(),
+        store: if robust {
+            OperatorStore::Relative { dim }
+        } else {
+            OperatorStore::for_sides(&s, &slaves, o, dim)
+        },
+        weighted_gap,
+    };
+    let mut report = MappingReport::default();
+    let mut standard = Vec::new();
+    let m = &*model;
+    let (segmented, gaps) = if streams(m, &s, &slaves, tasks.store) {
+        let mut first = stream_first_iterations(
+            m,
+            &s,
+            &tasks,
+            (&aux, ref_area, &slaves),
+            (&mut report, &mut standard),
+        )?;
+        let gaps = std::mem::take(&mut first.gaps);
+        let segmented = Segmented {
+            first: Some(first),
+            per_slave: None,
+        };
+        (segmented, gaps)
+    } else {
+        let mut per_slave = segment_slaves(m, &s.slave_conditions, &tasks)?;
+        let mut gaps = Vec::with_capacity(per_slave.iter().map(|m| m.gaps.len()).sum());
+        for mapped in &mut per_slave {
+            report.kept += mapped.kept.len();
+            report.removed.append(&mut mapped.removed);
+            gaps.append(&mut mapped.gaps);
+            standard.append(&mut mapped.standard);
+        }
+        let segmented = Segmented {
+            first: None,
+            per_slave: Some(kept_only(per_slave)),
+        };
+        (segmented, gaps)
+    };
+    report.standard_basis_pairs = standard.len();
+    report.standard_basis_nodes = count_slave_nodes(m, &standard, &slaves);
+    let known = KnownGaps::new(gaps);
+    for r in &report.removed {
+        model.index_map_mut(r.slave).remove_id(r.master);
+    }
+    // 4. The mapping: Kratos' explicit iterations, or robust mode's direct solve (relative to
+    // each slave node: `relative[j]` is the mapped point minus the node, `None` where the
+    // node is not mapped).
+    let m = &*model;
+    let relative = if robust {
+        let per_slave = segmented.per_slave.as_deref().unwrap_or_default();
+        let (nodal_area, relative) = solve_relative(
+            m,
+            &slaves,
+            (per_slave, dim),
+            (s.slave_nodes.len(), ref_area),
+        );
+        area = nodal_area;
+        // Kratos' inverted mapping maps zeros (its origin side holds no coordinates), so no
+        // slave node is mapped; robust mode keeps that outcome.
+        let relative: Vec<Option<Vector>> = if o { relative } else { vec![None; area.len()] };
+        for (n, r) in s.slave_nodes.iter().zip(&relative) {
+            if let Some(r) = r {
+                aux[n.index()] = coords_of(m, *n) + r;
+            }
+        }
+        report.iterations = usize::from(report.kept > 0);
+        report.converged = true;
+        Some(relative)
+    } else {
+        let end = kratos_iterations(
+            m,
+            (&s, &slaves),
+            (&tasks, segmented),
+            (&mut aux, &mut area),
+            (dim, ref_area, report.kept),
+        )?;
+        report.iterations = end.iterations;
+        report.converged = end.converged;
+        report.last_correction = end.last_correction;
+        None
+    };
+    // 5. ComputeNormalGap (master side, then slave side): the new values (in that order; a
+    // node on both sides takes its last), then written. Kratos takes a node as mapped when
+    // `|AUX| > ε` (Q39: a point mapped onto the origin is not); robust mode knows which are.
+    let gaps: Vec<(usize, Real)> = {
+        let normals = model.nodal_data().vector(VectorVar::Normal, 0);
+        let normal = |i: usize| normals.map_or_else(Vector::zeros, |col| col[i]);
+        let nflags = model.nodes().flags();
+        let coords = model.nodes().coordinates();
+        s.master_nodes
+            .iter()
+            .chain(&s.slave_nodes)
+            .filter_map(|n| {
+                let i = n.index();
+                if nflags[i].is(Flag::SLAVE) != o {
+                    Some((i, 0.0))
+                } else if let Some(relative) = &relative {
+                    // (aux − X)·n, without forming aux.
+                    let r = slaves.get(*n).and_then(|j| relative[j])?;
+                    Some((i, r.dot(&normal(i))))
+                } else if norm_kratos(&aux[i]) > EPS {
+                    Some((i, (coords[i].coords - aux[i]).dot(&(-normal(i)))))
+                } else {
+                    None
+                }
+            })
+            .collect()
+    };
+    let data = model.nodal_data_mut();
+    if let Some(col) = data.scalar_mut(ScalarVar::NormalGap, 0) {
+        for (i, g) in gaps {
+            col[i] = g;
+        }
+    }
+    if let Some(col) = data.scalar_mut(ScalarVar::NodalArea, 0) {
+        for (j, n) in s.slave_nodes.iter().enumerate() {
+            col[n.index()] = area[j];
+        }
+    }
+    data.set_vector(VectorVar::AuxiliarCoordinates, aux)
+        .map_err(|_| Error::message_only("AUXILIAR_COORDINATES: not one value per node".into()))?;
+    Ok((report, known))
+}

@@ -1,0 +1,90 @@
+//! The slave and master sides of a ContactSub and the mapper's slave-node numbering.
+
+use csm_geometry::math::Real;
+use csm_model::{ConditionIdx, Flag, ModelPart, NodeIdx, PartIdx, ScalarVar};
+
+/// The slave and master sides of a ContactSub (Kratos' `SlaveSubModelPart` /
+/// `MasterSubModelPart`, §5.1): entities with `SLAVE != inverted`, resp. `MASTER != inverted`.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Sides {
+    pub slave_conditions: Vec<ConditionIdx>,
+    pub master_conditions: Vec<ConditionIdx>,
+    pub slave_nodes: Vec<NodeIdx>,
+    pub master_nodes: Vec<NodeIdx>,
+}
+
+pub(crate) fn sides(model: &ModelPart, sub: PartIdx, inverted: bool) -> Sides {
+    let ids = model.conditions().ids();
+    let mut conditions = model.part(sub).conditions().to_vec();
+    conditions.sort_by_key(|c| ids[c.index()]);
+    let cflags = model.conditions().flags();
+    let nflags = model.nodes().flags();
+    let nodes = model.part(sub).nodes();
+    Sides {
+        slave_conditions: conditions
+            .iter()
+            .copied()
+            .filter(|c| cflags[c.index()].is(Flag::SLAVE) != inverted)
+            .collect(),
+        master_conditions: conditions
+            .iter()
+            .copied()
+            .filter(|c| cflags[c.index()].is(Flag::MASTER) != inverted)
+            .collect(),
+        slave_nodes: nodes
+            .iter()
+            .copied()
+            .filter(|n| nflags[n.index()].is(Flag::SLAVE) != inverted)
+            .collect(),
+        master_nodes: nodes
+            .iter()
+            .copied()
+            .filter(|n| nflags[n.index()].is(Flag::MASTER) != inverted)
+            .collect(),
+    }
+}
+
+/// The Advanced search's `DISTANCE_THRESHOLD` (§10.1): `max(mean NODAL_H of the slave side,
+/// mean NODAL_H of the master side)` of ContactSub `sub` (a side without nodes, or a model
+/// without NODAL_H, counts 0). Reads the sides' nodes in the part's order, without listing
+/// them.
+pub fn mean_h(model: &ModelPart, sub: PartIdx, inverted: bool) -> Real {
+    let Some(h) = model.nodal_data().scalar(ScalarVar::NodalH, 0) else {
+        return 0.0;
+    };
+    let nflags = model.nodes().flags();
+    let mean = |flag: Flag| -> Real {
+        let side = || {
+            let nodes = model.part(sub).nodes().iter();
+            nodes.filter(|n| nflags[n.index()].is(flag) != inverted)
+        };
+        match side().count() {
+            0 => 0.0,
+            count => side().map(|n| h[n.index()]).sum::<Real>() / count as Real,
+        }
+    };
+    mean(Flag::SLAVE).max(mean(Flag::MASTER))
+}
+
+/// The positions of the slave nodes in [`Sides::slave_nodes`] by node index: the mapper's
+/// arrays by slave node.
+pub(crate) struct SlavePositions(Vec<u32>);
+
+impl SlavePositions {
+    /// Not a slave node.
+    const NONE: u32 = u32::MAX;
+
+    pub(crate) fn new(s: &Sides, n_nodes: usize) -> SlavePositions {
+        let mut positions = vec![SlavePositions::NONE; n_nodes];
+        for (j, n) in s.slave_nodes.iter().enumerate() {
+            positions[n.index()] = u32::try_from(j).expect("node positions fit u32");
+        }
+        SlavePositions(positions)
+    }
+
+    /// The position of node `n` among the slave nodes, if it is one.
+    pub(super) fn get(&self, n: NodeIdx) -> Option<usize> {
+        let j = self.0[n.index()];
+        (j != SlavePositions::NONE).then_some(j as usize)
+    }
+}

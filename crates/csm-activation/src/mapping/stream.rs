@@ -1,0 +1,176 @@
+//! The first two mapper iterations streamed with the segmentation (large interfaces).
+
+use std::collections::VecDeque;
+
+use csm_geometry::math::{Real, Vector};
+use csm_model::{ConditionIdx, ModelPart, NodeIdx};
+
+use super::iterate::{Residual, add_area};
+use super::segment::{OperatorStore, Segmenting, SlaveMapping, kept_pairs, segment_slaves};
+use super::sides::{Sides, SlavePositions};
+use super::{AREA_TOLERANCE, MappingReport};
+use crate::error::Error;
+use crate::weighted_gap::KnownGap;
+
+/// Slave conditions per batch of [`stream_first_iterations`].
+pub(super) const SLAVES_PER_BATCH: usize = 8192;
+
+/// What [`stream_first_iterations`] leaves for the iterations.
+pub(super) struct FirstIterations {
+    /// The residuals of the first two iterations (`VAUX`), by slave node.
+    pub(super) vaux: [Vec<Vector>; 2],
+    /// `NODAL_AREA`: `D`'s diagonal summed over the kept pairs, by slave node.
+    pub(super) area: Vec<Real>,
+    /// The weighted gap of the kept pairs, in slave order.
+    pub(super) gaps: Vec<KnownGap>,
+}
+
+/// INDEX_MAP entries from which the mapping streams its first iterations (below, keeping
+/// every pair's operators costs little memory and saves the batches' passes).
+pub(super) const STREAM_MIN_ENTRIES: usize = 1 << 16;
+
+/// Whether the first two mapper iterations follow the segmentation
+/// ([`stream_first_iterations`]): on enough entries (at least [`STREAM_MIN_ENTRIES`]) where
+/// they can — the store keeps the products of the master values (which do not change), and
+/// every node of a slave condition is a slave node (only those change, and every residual goes
+/// to them).
+pub(super) fn streams(
+    m: &ModelPart,
+    s: &Sides,
+    slaves: &SlavePositions,
+    store: OperatorStore,
+) -> bool {
+    #[cfg(test)]
+    if crate::tests::FORCE_STORED.with(std::cell::Cell::get) {
+        return false;
+    }
+    if !matches!(store, OperatorStore::MasterProducts { .. }) {
+        return false;
+    }
+    // (The tests stream whatever the number of entries.)
+    let least = if cfg!(test) { 0 } else { STREAM_MIN_ENTRIES };
+    let entries: usize = s
+        .slave_conditions
+        .iter()
+        .map(|&c| m.index_map(c).len())
+        .sum();
+    entries >= least
+        && s.slave_conditions.iter().all(|c| {
+            m.conditions()
+                .nodes(c.index())
+                .iter()
+                .all(|&n| slaves.get(n).is_some())
+        })
+}
+
+/// The segmentation of every INDEX_MAP entry ([`segment_slaves`], batch after batch of
+/// [`SLAVES_PER_BATCH`] slaves) with the first two mapper iterations' residuals, computed as
+/// the pairs come, so that no pair's operators are kept longer than those iterations need
+/// them (where [`streams`]): the first iteration's residual and `D`'s diagonal of a pair are
+/// added as its batch is done; its second iteration's residual once every slave condition of
+/// its slave nodes is done (their values after the first iteration are then known), in pair
+/// order, after which its operators are dropped. Each node's sums are those of the iterations
+/// in pair order, bit for bit: the values after the first iteration are computed as the
+/// iteration computes them, and what the iterations do with the sums of the first two
+/// (`aux` update, convergence) is left to them. `(aux, ref_area)`: the values before the
+/// iterations and the reference area. Counts the kept entries in `report`, adds the
+/// removed ones in slave order and the slave conditions of standard-basis pairs to `standard`.
+pub(super) fn stream_first_iterations(
+    m: &ModelPart,
+    s: &Sides,
+    tasks: &Segmenting<'_>,
+    (aux, ref_area, slaves): (&[Vector], Real, &SlavePositions),
+    (report, standard): (&mut MappingReport, &mut Vec<ConditionIdx>),
+) -> Result<FirstIterations, Error> {
+    let n_slaves = s.slave_nodes.len();
+    let dim = match tasks.store {
+        OperatorStore::MasterProducts { dim, .. } => dim,
+        OperatorStore::Operators | OperatorStore::Relative { .. } => {
+            unreachable!("streams only the master values' products")
+        }
+    };
+    let batch = batch_size();
+    // By slave node: the number of slave conditions done when its last one is (every node
+    // of a slave condition is a slave node).
+    let position = |n: NodeIdx| slaves.get(n).expect("streams: a slave node");
+    let mut done_with = vec![0; n_slaves];
+    for (p, sc) in s.slave_conditions.iter().enumerate() {
+        for &n in m.conditions().nodes(sc.index()) {
+            done_with[position(n)] = p + 1;
+        }
+    }
+    let mut first = FirstIterations {
+        vaux: [
+            vec![Vector::zeros(); n_slaves],
+            vec![Vector::zeros(); n_slaves],
+        ],
+        area: vec![0.0; n_slaves],
+        gaps: Vec::new(),
+    };
+    let residual = Residual {
+        store: tasks.store,
+        dim,
+        aux,
+        slaves,
+    };
+    let tolerance = AREA_TOLERANCE * ref_area;
+    // The mappings whose pairs' second iteration is not done yet, the first from pair `next`.
+    let mut pending: VecDeque<SlaveMapping> = VecDeque::new();
+    let mut next = 0;
+    for (b, conditions) in s.slave_conditions.chunks(batch).enumerate() {
+        let done = b * batch + conditions.len();
+        for mut mapped in segment_slaves(m, conditions, tasks)? {
+            report.kept += mapped.kept.len();
+            standard.append(&mut mapped.standard);
+            report.removed.append(&mut mapped.removed);
+            first.gaps.append(&mut mapped.gaps);
+            if mapped.kept.is_empty() {
+                continue;
+            }
+            for (sc, mc, packed) in kept_pairs(m, std::slice::from_ref(&mapped), tasks.store) {
+                residual.add(m, (sc, mc, packed), &mut first.vaux[0]);
+                add_area(m, sc, packed, (&mut first.area, slaves));
+            }
+            pending.push_back(mapped.kept_part());
+        }
+        // The second iteration of the pairs whose slave nodes are done, in order.
+        let [vaux0, vaux1] = &mut first.vaux;
+        let (vaux0, area) = (&*vaux0, &first.area);
+        // A slave node's value after the first iteration, as the iterations compute it.
+        let after_first = |n: NodeIdx, k: usize| {
+            let (i, j) = (n.index(), position(n));
+            if area[j].abs() > tolerance {
+                aux[i][k] + vaux0[j][k] / area[j]
+            } else {
+                aux[i][k]
+            }
+        };
+        'pending: while let Some(mapped) = pending.front() {
+            let pairs = kept_pairs(m, std::slice::from_ref(mapped), tasks.store).skip(next);
+            for (sc, mc, packed) in pairs {
+                let nodes = m.conditions().nodes(sc.index());
+                if nodes.iter().any(|&n| done_with[position(n)] > done) {
+                    break 'pending;
+                }
+                residual.add_with(m, (sc, mc, packed), vaux1, after_first);
+                next += 1;
+            }
+            pending.pop_front();
+            next = 0;
+        }
+    }
+    debug_assert!(
+        pending.is_empty(),
+        "every node is done after the last batch"
+    );
+    Ok(first)
+}
+
+/// [`SLAVES_PER_BATCH`], or the tests' own.
+fn batch_size() -> usize {
+    #[cfg(test)]
+    if let Some(n) = crate::tests::STREAM_BATCH.with(std::cell::Cell::get) {
+        return n;
+    }
+    SLAVES_PER_BATCH
+}
