@@ -61,9 +61,13 @@ pub(super) fn segment_line_line(
         let mut hits: Vec<Real> = Vec::with_capacity(2);
         for j in 0..2 {
             let (xi0, dxi0) = if j == 0 { (-1.0, 0.5) } else { (1.0, -0.5) };
-            if let Some(xi) =
-                project_iterative_line(slave, &mg.points()[j], xi0, dxi0, tol, max_iter)
-            {
+            if let Some(xi) = project_iterative_line(
+                slave,
+                &mg.points()[j],
+                (xi0, dxi0),
+                (tol, max_iter),
+                settings.mode,
+            ) {
                 hits.push(xi);
             }
         }
@@ -123,19 +127,29 @@ pub(super) fn segment_line_line(
 /// as a hit — when `|Δξ − Δξ_old| < tol` (so a master node beyond a slave end converges to the
 /// clamped end, Q44); `None` after `max_iter` steps (Kratos drops the node). NaN (zero
 /// interpolated normal) never converges.
+///
+/// [`MortarMode::Kratos`] computes in absolute coordinates, as Kratos: the rounding of
+/// `Δξ` grows as `ε·|X| / L` (`L` the slave's length), so once `|X| ≳ 1e3·L` it exceeds the
+/// tolerance `1e3·ε`, the test may never pass and the master node is dropped (pairs with much
+/// overlap are lost). [`MortarMode::Robust`]
+/// computes relative to the slave's first node, so `Δξ` carries rounding of order `ε` only.
 pub(super) fn project_iterative_line(
     slave: &MortarFace<'_>,
     x_master: &Point,
-    xi_init: Real,
-    delta_init: Real,
-    tol: Real,
-    max_iter: usize,
+    (xi_init, delta_init): (Real, Real),
+    (tol, max_iter): (Real, usize),
+    mode: MortarMode,
 ) -> Option<Real> {
     let sg: &Geometry<'_> = slave.geometry();
-    let x = sg.points();
+    let origin = match mode {
+        MortarMode::Kratos => Vector::zeros(),
+        MortarMode::Robust => sg.points()[0].coords,
+    };
+    let x = [sg.points()[0] - origin, sg.points()[1] - origin];
+    let x_master = &(x_master - origin);
     let normals = [slave.nodal_normal(0), slave.nodal_normal(1)];
     let n_s = slave.normal();
-    let center = sg.center();
+    let center = sg.center() - origin;
     let dn = [-0.5, 0.5];
     let dx = x[0].x * dn[0] + x[1].x * dn[1];
     let dy = x[0].y * dn[0] + x[1].y * dn[1];
