@@ -14,5 +14,6 @@ mod obb2;
 #[cfg(test)]
 mod tests;
 
+pub use build_min_area::OBB_TIE_TOLERANCE;
 pub use obb::Obb;
 pub use obb2::Obb2;
