@@ -172,7 +172,7 @@ pub fn normal_check_with_normals(
         order
             .par_iter()
             .map_init(Vec::<Point>::new, |points, &e| {
-                inward_nodes(m, e, &normals, lp, tol, points)
+                inward_nodes(m, e, &normals, (lp, tol, kratos), points)
             })
             .collect()
     };
@@ -287,8 +287,7 @@ fn inward_nodes(
     model: &ModelPart,
     e: usize,
     normals: &[Vector],
-    lp: f64,
-    tol: f64,
+    (lp, tol, kratos): (f64, f64, bool),
     points: &mut Vec<Point>,
 ) -> Result<Vec<NodeIdx>, Error> {
     let kind = model.elements().kind(e);
@@ -304,9 +303,7 @@ fn inward_nodes(
     }
     model.gather_points(nodes, points);
     let element = Geometry::new(kind, points).map_err(|err| element_error(model, e, err))?;
-    let length = element
-        .length()
-        .map_err(|err| element_error(model, e, err))?;
+    let length = probe_length(&element, kratos).map_err(|err| element_error(model, e, err))?;
     let mut inward = Vec::new();
     let mut checked = false;
     for (n, x) in nodes.iter().zip(points.iter()) {
@@ -323,6 +320,21 @@ fn inward_nodes(
         }
     }
     Ok(inward)
+}
+
+/// The length the node probes of a solid element are scaled by. Kratos takes `Length()`,
+/// which for hexahedra and prisms is `√|det J(0)|`, a length to the power 1.5: under a scaling
+/// by `s` the probe moves `s^1.5` instead of `s`, and below `s ≈ 5e-9` every probe lands inside
+/// (every condition taken as inverted). Robust mode takes a true length there, the cube root
+/// of the volume; tetrahedra and 2D solids keep Kratos' length, proportional already.
+fn probe_length(element: &Geometry<'_>, kratos: bool) -> Result<f64, csm_geometry::Error> {
+    use csm_geometry::GeometryKind as K;
+    match element.kind() {
+        K::Hexahedra3D8 | K::Hexahedra3D20 | K::Hexahedra3D27 | K::Prism3D6 if !kratos => {
+            Ok(element.volume()?.cbrt())
+        }
+        _ => element.length(),
+    }
 }
 
 /// `face.Center() + lp · face.Length() · face.UnitNormal(ξ(centre))`, in Kratos' order, and
