@@ -118,6 +118,44 @@ pub fn plates(gap: Real) -> Scene {
         .sheet(&master(&m, &m), false)
 }
 
+/// [`plates`] with the slave shifted by `shift` cells along x and y instead of a third.
+pub fn plates_with_shift(gap: Real, shift: Real) -> Scene {
+    let s = linspace(shift, 4.0 + shift, 4);
+    let m = linspace(-0.5, 4.5, 5);
+    Scene::new()
+        .sheet(&slave(gap, &s, &s), true)
+        .sheet(&master(&m, &m), false)
+}
+
+/// Quadrilateral slaves over a triangulated master, the interface plane at `z0` (gap `gap`):
+/// many slaves overlap a master in a single triangular cell, whose `Me` is singular (the
+/// standard basis in Kratos, the case that needs the mapper's iterations).
+pub fn quads_over_triangles(z0: Real, gap: Real) -> Scene {
+    let s = linspace(1.0 / 3.0, 4.0 + 1.0 / 3.0, 4);
+    let m = linspace(-0.5, 4.5, 5);
+    let scene = Scene::new()
+        .sheet(&slave(gap, &s, &s), true)
+        .sheet(&master(&m, &m).triangles(), false);
+    scene.map_from(0, move |p| p + Vector::new(0.0, 0.0, z0))
+}
+
+/// Quadrilateral slaves over a master of equilateral triangles (side 1) at gap `gap`: each
+/// master's three edge-aligned boxes tie.
+pub fn over_equilateral_triangles(gap: Real) -> Scene {
+    let s = linspace(1.0 / 3.0, 3.0 + 1.0 / 3.0, 3);
+    let master_sheet = Sheet::flat(
+        Point::new(-1.0, -0.5, 0.0),
+        Vector::x(),
+        Vector::new(-0.5, 3f64.sqrt() / 2.0, 0.0),
+        &linspace(0.0, 7.0, 7),
+        &linspace(0.0, 6.0, 6),
+    )
+    .triangles();
+    Scene::new()
+        .sheet(&slave(gap, &s, &s), true)
+        .sheet(&master_sheet, false)
+}
+
 /// A cylindrical cap (radius 2, axis along y, ±30°) of 6 × 3 cells pressed 0.05 into a plate
 /// of 5 × 4 triangulated cells: a small curved scene for the invariance properties.
 pub fn cylinder_on_plate() -> Scene {
@@ -314,6 +352,36 @@ pub fn all() -> Vec<Case> {
     );
     adapt.setup = setup(json!({"adapt_search": true}), json!({}));
     cases.push(adapt);
+    for (name, z0) in [
+        ("quads_over_triangles_z1", 1.0),
+        ("quads_over_triangles_z1e3", 1e3),
+        ("quads_over_triangles_z1e6", 1e6),
+    ] {
+        cases.push(built(
+            name,
+            "quadrilateral slaves over triangle masters (single-triangle overlaps: Kratos' standard basis), interface plane off the origin, gap 0.05",
+            quads_over_triangles(z0, 0.05),
+            Oracle::Overlap,
+            Some(0.05),
+        ));
+    }
+    cases.push(built(
+        "equilateral_masters",
+        "quadrilateral slaves over equilateral-triangle masters (three tied OBB rectangles each), gap 0.05",
+        over_equilateral_triangles(0.05),
+        Oracle::Overlap,
+        Some(0.05),
+    ));
+    let s = linspace(-2.0, 2.0, 4);
+    cases.push(built(
+        "node_over_origin",
+        "matching plates at gap 0.05 with a slave node mapped onto the master node at the origin (Kratos reads |AUX| ≤ ε as not mapped)",
+        Scene::new()
+            .sheet(&slave(0.05, &s, &s), true)
+            .sheet(&master(&s, &s), false),
+        Oracle::Overlap,
+        Some(0.05),
+    ));
     let zx = [1.0 / 3.0, 4.0 / 3.0, 4.0 / 3.0, 7.0 / 3.0, 13.0 / 3.0];
     let s = linspace(1.0 / 3.0, 4.0 + 1.0 / 3.0, 4);
     let m = linspace(-0.5, 4.5, 5);

@@ -29,6 +29,13 @@ pub enum Transform {
     Translate(Vector),
     /// `x ↦ R(axis, angle)·x` about the origin.
     Rotate(Vector, Real),
+    /// `x ↦ s·R(axis, angle)·x + t`: a similarity (the property tests).
+    Similarity {
+        scale: Real,
+        axis: Vector,
+        angle: Real,
+        offset: Vector,
+    },
 }
 
 impl Transform {
@@ -42,14 +49,28 @@ impl Transform {
                 let r = nalgebra_rotation(axis, angle);
                 Point::from(r * p.coords)
             }
+            Transform::Similarity {
+                scale,
+                axis,
+                angle,
+                offset,
+            } => Point::from(nalgebra_rotation(axis, angle) * p.coords * scale + offset),
         }
     }
 
     /// The factor applied to lengths.
     pub fn length_factor(&self) -> Real {
         match *self {
-            Transform::Scale(s) => s,
+            Transform::Scale(s) | Transform::Similarity { scale: s, .. } => s,
             _ => 1.0,
+        }
+    }
+
+    /// The length of the translation part, `|t|`.
+    pub fn offset(&self) -> Real {
+        match *self {
+            Transform::Translate(t) | Transform::Similarity { offset: t, .. } => t.norm(),
+            _ => 0.0,
         }
     }
 
@@ -62,6 +83,15 @@ impl Transform {
             Transform::Rotate(a, angle) => {
                 format!("rotate {angle} rad about ({}, {}, {})", a.x, a.y, a.z)
             }
+            Transform::Similarity {
+                scale,
+                axis: a,
+                angle,
+                offset: t,
+            } => format!(
+                "scale {scale:e}, rotate {angle} rad about ({}, {}, {}), translate ({:e}, {:e}, {:e})",
+                a.x, a.y, a.z, t.x, t.y, t.z
+            ),
         }
     }
 }
@@ -73,23 +103,182 @@ fn nalgebra_rotation(axis: Vector, angle: Real) -> csm::geometry::math::Matrix3 
     csm::geometry::math::Matrix3::identity() + kx * angle.sin() + kx * kx * (1.0 - angle.cos())
 }
 
-/// The transforms of the report for a scene of dimension `dim` (2D: in the plane z = 0).
-pub fn report_transforms(dim: u8) -> [Transform; 4] {
-    if dim == 2 {
-        [
-            Transform::Scale(1e-6),
-            Transform::Scale(1e6),
-            Transform::Translate(Vector::new(1e6, -7e5, 0.0)),
-            Transform::Rotate(Vector::z(), 0.7),
-        ]
+/// The number of transforms of the report.
+pub const REPORT_TRANSFORMS: usize = 8;
+
+/// The report's column headings of [`report_transforms`], in order.
+pub const REPORT_HEADINGS: [&str; REPORT_TRANSFORMS] = [
+    "scale 1e-9",
+    "scale 1e-6",
+    "scale 1e6",
+    "along n 1e3",
+    "along n 1e8",
+    "in plane 1e8",
+    "translate 1e6",
+    "rotate",
+];
+
+/// The transforms of the report for a scene of dimension `dim` (2D: in the plane z = 0, the
+/// contact normal along y; 3D: along z): scalings, translations along the contact normal and
+/// in its plane (1e3 … 1e8), a general translation and a rotation.
+pub fn report_transforms(dim: u8) -> [Transform; REPORT_TRANSFORMS] {
+    let along = |d: Real| {
+        if dim == 2 {
+            Vector::new(0.0, d, 0.0)
+        } else {
+            Vector::new(0.0, 0.0, d)
+        }
+    };
+    let (general, axis) = if dim == 2 {
+        (Vector::new(1e6, -7e5, 0.0), Vector::z())
     } else {
-        [
-            Transform::Scale(1e-6),
-            Transform::Scale(1e6),
-            Transform::Translate(Vector::new(1e6, -7e5, 3e5)),
-            Transform::Rotate(Vector::new(1.0, 2.0, 3.0), 0.7),
-        ]
+        (Vector::new(1e6, -7e5, 3e5), Vector::new(1.0, 2.0, 3.0))
+    };
+    [
+        Transform::Scale(1e-9),
+        Transform::Scale(1e-6),
+        Transform::Scale(1e6),
+        Transform::Translate(along(1e3)),
+        Transform::Translate(along(1e8)),
+        Transform::Translate(Vector::new(1e8, 0.0, 0.0)),
+        Transform::Translate(general),
+        Transform::Rotate(axis, 0.7),
+    ]
+}
+
+/// The size of a scene: `h`, the mean face size (square root of the mean area, or the mean
+/// length of lines), and its extent, the largest `|x|` of a node.
+pub fn scene_size(model: &ModelPart) -> (Real, Real) {
+    let conds = model.conditions();
+    let xyz = model.nodes().coordinates();
+    let (mut sum, mut count, mut lines) = (0.0, 0usize, false);
+    for i in 0..conds.len() {
+        let pts: Vec<Point> = conds.nodes(i).iter().map(|n| xyz[n.index()]).collect();
+        let Ok(g) = Geometry::new(conds.kind(i), &pts) else {
+            continue;
+        };
+        let size = match g.kind() {
+            GeometryKind::Line2D2 | GeometryKind::Line2D3 => {
+                lines = true;
+                g.length().ok()
+            }
+            _ => g.area_robust().ok(),
+        };
+        if let Some(v) = size.filter(|v| v.is_finite()) {
+            sum += v;
+            count += 1;
+        }
     }
+    let mean = sum / count.max(1) as Real;
+    let h = if lines { mean } else { mean.sqrt() };
+    let extent = xyz
+        .iter()
+        .map(|p| p.coords.norm())
+        .filter(|v| v.is_finite())
+        .fold(0.0, Real::max);
+    (h, extent)
+}
+
+/// How a transformed run differs from the untransformed one in what users read.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Drift {
+    /// Pairs missed and extra (overlaps below 1e-9 of the slave's area left out).
+    pub missed: usize,
+    pub extra: usize,
+    /// Pairs that differ only by tiny overlaps.
+    pub tiny: usize,
+    /// Slave nodes whose ACTIVE flag differs.
+    pub flips: usize,
+    /// Nodes mapped in one run and not in the other.
+    pub mapped: usize,
+    /// Nodes whose mapped gap (`gap_t / s`) is off by more than the tolerance
+    /// `1e-6·h + 64ε·(|t|/s + extent)`.
+    pub gaps: usize,
+    /// The largest `|gap_t / s − gap_0| / h`.
+    pub worst_gap: Real,
+}
+
+impl Drift {
+    /// Whether the runs agree.
+    pub fn is_invariant(&self) -> bool {
+        self.missed + self.extra + self.flips + self.mapped + self.gaps == 0
+    }
+
+    /// The report's cell: `=`, `= (k tiny)`, or what differs.
+    pub fn cell(&self) -> String {
+        if self.is_invariant() {
+            return match self.tiny {
+                0 => "=".into(),
+                k => format!("= ({k} tiny)"),
+            };
+        }
+        let mut parts = Vec::new();
+        if self.missed + self.extra > 0 {
+            parts.push(format!("−{} +{}", self.missed, self.extra));
+        }
+        if self.flips > 0 {
+            parts.push(format!("{} flips", self.flips));
+        }
+        if self.mapped > 0 {
+            parts.push(format!("{} (un)mapped", self.mapped));
+        }
+        if self.gaps > 0 {
+            parts.push(format!("gap {:.0e} h", self.worst_gap));
+        }
+        parts.join("; ")
+    }
+}
+
+/// How `moved` (the run under `t`) differs from `base` (untransformed; `model0` its mesh,
+/// `(h, extent)` its [`scene_size`]).
+pub fn drift(
+    model0: Option<&ModelPart>,
+    (h, extent): (Real, Real),
+    base: &Run,
+    moved: &Run,
+    t: Transform,
+) -> Drift {
+    let (missed, extra) = match model0 {
+        Some(m) => differences(m, &base.pairs, &moved.pairs),
+        None => (
+            base.pairs.difference(&moved.pairs).copied().collect(),
+            moved.pairs.difference(&base.pairs).copied().collect(),
+        ),
+    };
+    let tiny = base.pairs.symmetric_difference(&moved.pairs).count() - missed.len() - extra.len();
+    let flips = base
+        .node_active
+        .iter()
+        .filter(|(id, a)| moved.node_active.get(id) != Some(a))
+        .count();
+    let s = t.length_factor();
+    let tolerance = 1e-6 * h + 64.0 * Real::EPSILON * (t.offset() / s + extent);
+    let mut d = Drift {
+        missed: missed.len(),
+        extra: extra.len(),
+        tiny,
+        flips,
+        ..Drift::default()
+    };
+    let ids: BTreeSet<u32> = base
+        .node_gaps
+        .keys()
+        .chain(moved.node_gaps.keys())
+        .copied()
+        .collect();
+    for id in ids {
+        match (base.node_gaps.get(&id), moved.node_gaps.get(&id)) {
+            (Some(g0), Some(gt)) => {
+                let err = (gt / s - g0).abs();
+                if err.is_nan() || err > tolerance {
+                    d.gaps += 1;
+                    d.worst_gap = d.worst_gap.max(err / h);
+                }
+            }
+            _ => d.mapped += 1,
+        }
+    }
+    d
 }
 
 /// What one search gave.
@@ -109,6 +298,8 @@ pub struct Run {
     pub active: usize,
     /// The mapped NORMAL_GAP per node (the 1e12 sentinel left out).
     pub node_gaps: BTreeMap<u32, Real>,
+    /// The ACTIVE flag per slave node.
+    pub node_active: BTreeMap<u32, bool>,
     /// The search's warnings.
     pub warnings: Vec<String>,
 }
@@ -229,7 +420,9 @@ pub fn run(
             .iter()
             .filter_map(|(id, n)| n.normal_gap.filter(|g| g.abs() < 1e11).map(|g| (*id, g)))
             .collect();
+        let node_active = result.nodes.iter().map(|(id, n)| (*id, n.active)).collect();
         let run = Run {
+            node_active,
             pairs,
             non_finite,
             gap: range(&gaps),

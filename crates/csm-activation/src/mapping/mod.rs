@@ -433,3 +433,6 @@ fn normal_gap_process_inner(
         .map_err(|_| Error::message_only("AUXILIAR_COORDINATES: not one value per node".into()))?;
     Ok((report, known))
 }
+
+#[cfg(test)]
+mod tests;

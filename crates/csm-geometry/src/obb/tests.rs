@@ -187,3 +187,60 @@ fn vertices_follow_the_hexahedron_order() {
     let b = obb.aabb();
     assert_eq!((b.min, b.max), (v[0], v[6]));
 }
+
+/// Rodrigues' rotation of `v` about the unit `axis` by `angle`.
+fn rotate(v: Vector, axis: Vector, angle: f64) -> Vector {
+    let k = axis.normalize();
+    v * angle.cos() + k.cross(&v) * angle.sin() + k * k.dot(&v) * (1.0 - angle.cos())
+}
+
+// See: issue 24, cause 6 (the three rectangles of an equilateral triangle tie to rounding).
+#[test]
+fn min_area_box_of_an_equilateral_triangle_follows_every_motion() {
+    let h = 3f64.sqrt() / 2.0;
+    let tri = [
+        Point::new(0.0, 0.0, 0.0),
+        Point::new(1.0, 0.0, 0.0),
+        Point::new(0.5, h, 0.0),
+    ];
+    let box0 = Obb::build_on_normal_min_area(
+        &Geometry::new(GeometryKind::Triangle3D3, &tri).unwrap(),
+        0.0,
+    )
+    .unwrap();
+    // The first edge in node order wins the tie: its direction is the box's first in-plane
+    // axis (up to sign).
+    assert!(box0.axes[1].x.abs() > 1.0 - 1e-12, "{:?}", box0.axes);
+    let motions: [(f64, Vector, f64, Vector); 5] = [
+        (1.0, Vector::z(), 0.0, Vector::new(0.0, 0.0, 1e8)),
+        (1.0, Vector::z(), 0.0, Vector::new(1e8, -7e7, 3e3)),
+        (1e-9, Vector::z(), 0.0, Vector::zeros()),
+        (1.0, Vector::new(1.0, 2.0, 3.0), 0.7, Vector::zeros()),
+        (
+            1e3,
+            Vector::new(-0.3, 0.2, 1.0),
+            2.1,
+            Vector::new(5e5, 1e6, -2e6),
+        ),
+    ];
+    for (s, axis, angle, t) in motions {
+        let moved: Vec<Point> = tri
+            .iter()
+            .map(|p| Point::from(rotate(p.coords, axis, angle) * s + t))
+            .collect();
+        let b = Obb::build_on_normal_min_area(
+            &Geometry::new(GeometryKind::Triangle3D3, &moved).unwrap(),
+            0.0,
+        )
+        .unwrap();
+        for k in 0..3 {
+            let want = rotate(box0.axes[k], axis, angle);
+            let cos = b.axes[k].dot(&want).abs();
+            assert!(
+                cos > 1.0 - 1e-9,
+                "axis {k} under ({s}, {angle}, {t:?}): {cos}"
+            );
+            close(b.half_lengths[k] / s, box0.half_lengths[k], 1e-6);
+        }
+    }
+}

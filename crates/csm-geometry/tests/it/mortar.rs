@@ -667,3 +667,56 @@ fn a_prepared_slave_segments_masters_sharing_nodes_as_fresh_ones() {
     }
     assert!(with_cells > 500, "{with_cells}");
 }
+
+// See: issue 24, cause 5 (the 2D projection's test on Δξ from absolute coordinates never
+// passes far from the origin, and the master node is dropped).
+/// Robust mode segments 2D line pairs far from the origin as near it: the overlap of
+/// non-matching flat lines translated by 1e3 … 1e8 is the interval intersection, up to the
+/// rounding of the translated coordinates.
+#[test]
+fn robust_2d_segments_keep_their_overlap_far_from_the_origin() {
+    let mut rng = Rng::new(0xFA2_0261);
+    let mut n_overlaps = 0;
+    for case in 0..300 {
+        let a = rng.range(-1.0, 1.0) * 0.01;
+        let b = a + rng.range(0.2, 2.0) * 0.01;
+        let c = rng.range(-2.0, 2.0) * 0.01;
+        let d = c + rng.range(0.2, 2.0) * 0.01;
+        let gap = rng.range(-0.05, 0.05) * 0.01;
+        let oracle = (b.min(d) - a.max(c)).max(0.0);
+        let offset = Vector::new(
+            10f64.powf(rng.range(3.0, 8.0)),
+            10f64.powf(rng.range(3.0, 8.0)),
+            0.0,
+        );
+        let at = |x: Real, y: Real| Point::new(x, y, 0.0) + offset;
+        let slave = [at(a, 0.0), at(b, 0.0)];
+        let master = [at(d, -gap), at(c, -gap)];
+        let s_n = [Vector::new(0.0, -1.0, 0.0); 2];
+        let m_n = [Vector::new(0.0, 1.0, 0.0); 2];
+        fn face<'a>(pts: &'a [Point; 2], n: &'a [Vector; 2]) -> MortarFace<'a> {
+            MortarFace::new(Geometry::new(GeometryKind::Line2D2, pts).unwrap(), n[0])
+                .unwrap()
+                .with_nodal_normals(n)
+                .unwrap()
+        }
+        let (sf, mf) = (face(&slave, &s_n), face(&master, &m_n));
+        let settings = SegmentationSettings {
+            mode: MortarMode::Robust,
+            distance_threshold: 1e24,
+        };
+        let tolerance = 1e-9 * 0.01 + 64.0 * Real::EPSILON * offset.norm();
+        match exact_segmentation(&sf, &mf, &settings).unwrap() {
+            Some(seg) => {
+                let l = seg.overlap_area();
+                assert!(
+                    (l - oracle).abs() <= tolerance,
+                    "case {case}: {l} vs {oracle}"
+                );
+                n_overlaps += 1;
+            }
+            None => assert!(oracle <= tolerance, "case {case}: missed {oracle}"),
+        }
+    }
+    assert!(n_overlaps > 150, "{n_overlaps}");
+}
