@@ -4,7 +4,8 @@
 //! - [`mean_normals`]: the nodal mean normals the mapping writes first;
 //! - [`segment`]: the exact segmentation of every INDEX_MAP entry, the kept pairs' operators;
 //! - [`stream`]: the first two iterations streamed with the segmentation (large interfaces);
-//! - [`iterate`]: the mapper's iterations (residuals, nodal areas);
+//! - [`iterate`]: Kratos' explicit iterations (residuals, nodal areas) and robust mode's
+//!   direct solve;
 //! - this module: the process itself, step by step, and `ComputeNormalGap`.
 
 mod iterate;
@@ -47,22 +48,6 @@ pub const MAPPER_RELATIVE_TOLERANCE: Real = 1e-4;
 /// The mapper's iteration limit.
 pub const MAPPER_MAX_ITERATIONS: usize = 10;
 
-/// The number of distinct slave nodes (`slaves`) of the conditions `listed`.
-fn count_slave_nodes(m: &ModelPart, listed: &[ConditionIdx], slaves: &SlavePositions) -> usize {
-    let mut nodes: Vec<usize> = listed
-        .iter()
-        .flat_map(|c| m.conditions().nodes(c.index()))
-        .filter_map(|&n| slaves.get(n))
-        .collect();
-    nodes.sort_unstable();
-    nodes.dedup();
-    nodes.len()
-}
-
-/// The coordinates of node `n` as a vector.
-fn coords_of(m: &ModelPart, n: csm_model::NodeIdx) -> Vector {
-    m.nodes().coordinates()[n.index()].coords
-}
 /// A slave node is updated only if `|NODAL_AREA| > AREA_TOLERANCE · ref_area`.
 const AREA_TOLERANCE: Real = 1e-4;
 
@@ -112,6 +97,10 @@ pub struct MappingReport {
     pub standard_basis_pairs: usize,
     /// The slave nodes of the slave conditions of those pairs.
     pub standard_basis_nodes: usize,
+    /// Kratos mode: slave nodes the mapper updated whose mapped point is within ε of the
+    /// origin, so that Kratos' `|AUX| > ε` test reads them as not mapped (Q39: they keep the
+    /// 1e12 sentinel and turn inactive). Robust mode tracks mapped nodes and has none.
+    pub origin_nodes: usize,
 }
 
 impl MappingReport {
@@ -122,8 +111,21 @@ impl MappingReport {
     /// where the iterations stopped at their limit. [`MortarMode::Robust`] solves the mapping
     /// directly and has nothing to report.
     pub fn warnings(&self, mode: MortarMode) -> Vec<String> {
-        if mode == MortarMode::Robust || (self.converged && self.standard_basis_pairs == 0) {
+        if mode == MortarMode::Robust {
             return Vec::new();
+        }
+        let mut warnings = Vec::new();
+        if self.origin_nodes > 0 {
+            warnings.push(format!(
+                "NORMAL_GAP: {} slave node(s) were mapped onto the origin, which Kratos' \
+                 |AUXILIAR_COORDINATES| > eps test reads as not mapped: they keep the 1e12 \
+                 sentinel and are inactive (Q39); \"compatibility\": \"robust\" knows which \
+                 nodes are mapped",
+                self.origin_nodes
+            ));
+        }
+        if self.converged && self.standard_basis_pairs == 0 {
+            return warnings;
         }
         let how = if self.converged {
             format!(
@@ -143,13 +145,14 @@ impl MappingReport {
         } else {
             "the mortar mapper ".to_owned()
         };
-        vec![format!(
+        warnings.push(format!(
             "NORMAL_GAP: {basis}{how}, the last correction of a mapped point being {:.3e}; the \
              mapped gap may be off by a fraction of the coordinates' distance from the origin \
              (Kratos computes the same); \"compatibility\": \"robust\" solves the mapping \
              directly, relative to each slave node",
             self.last_correction
-        )]
+        ));
+        warnings
     }
 }
 
@@ -349,7 +352,7 @@ fn normal_gap_process_inner(
         (segmented, gaps)
     };
     report.standard_basis_pairs = standard.len();
-    report.standard_basis_nodes = count_slave_nodes(m, &standard, &slaves);
+    report.standard_basis_nodes = count_slave_nodes(m, &standard, (&slaves, s.slave_nodes.len()));
     let known = KnownGaps::new(gaps);
     for r in &report.removed {
         model.index_map_mut(r.slave).remove_id(r.master);
@@ -389,6 +392,12 @@ fn normal_gap_process_inner(
         report.iterations = end.iterations;
         report.converged = end.converged;
         report.last_correction = end.last_correction;
+        if o {
+            let tolerance = AREA_TOLERANCE * ref_area;
+            report.origin_nodes = (s.slave_nodes.iter().zip(&area))
+                .filter(|(n, a)| a.abs() > tolerance && norm_kratos(&aux[n.index()]) <= EPS)
+                .count();
+        }
         None
     };
     // 5. ComputeNormalGap (master side, then slave side): the new values (in that order; a
@@ -432,6 +441,30 @@ fn normal_gap_process_inner(
     data.set_vector(VectorVar::AuxiliarCoordinates, aux)
         .map_err(|_| Error::message_only("AUXILIAR_COORDINATES: not one value per node".into()))?;
     Ok((report, known))
+}
+
+/// The number of distinct slave nodes (`slaves`, `n_slaves` of them) of the conditions
+/// `listed`.
+fn count_slave_nodes(
+    m: &ModelPart,
+    listed: &[ConditionIdx],
+    (slaves, n_slaves): (&SlavePositions, usize),
+) -> usize {
+    let mut seen = vec![false; if listed.is_empty() { 0 } else { n_slaves }];
+    let mut count = 0;
+    for &n in listed.iter().flat_map(|c| m.conditions().nodes(c.index())) {
+        if let Some(j) = slaves.get(n)
+            && !std::mem::replace(&mut seen[j], true)
+        {
+            count += 1;
+        }
+    }
+    count
+}
+
+/// The coordinates of node `n` as a vector.
+fn coords_of(m: &ModelPart, n: csm_model::NodeIdx) -> Vector {
+    m.nodes().coordinates()[n.index()].coords
 }
 
 #[cfg(test)]

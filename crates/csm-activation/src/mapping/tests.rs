@@ -172,6 +172,12 @@ fn robust_mapping_knows_a_point_mapped_onto_the_origin_is_mapped() {
         .unwrap();
     assert!(aux[0].norm() < 1e-12, "{:?}", aux[0]);
     let (mut m, sub) = scene(0.05, 0.05, 1.0, &quad);
-    let (_, gaps) = map(&mut m, sub, MortarMode::Kratos);
+    let (report, gaps) = map(&mut m, sub, MortarMode::Kratos);
     assert_eq!(gaps[0], NORMAL_GAP_SENTINEL, "{gaps:?}");
+    assert_eq!(report.origin_nodes, 1);
+    let warnings = report.warnings(MortarMode::Kratos);
+    assert!(
+        warnings.len() == 1 && warnings[0].contains("1 slave node(s) were mapped onto the origin"),
+        "{warnings:?}"
+    );
 }
