@@ -443,3 +443,39 @@ fn robust_mode_is_stable() {
             .join("\n")
     );
 }
+
+// See: issue 24, cause 3 (the normal check's node probe of hexahedra scales as s^1.5).
+/// Kratos mode says where its normal check's node probes are out of scale with the elements
+/// (a mesh scaled by 1e-9, or by 1e4); robust mode scales them with the element and keeps
+/// every gap's sign.
+#[test]
+fn kratos_mode_warns_where_its_node_probes_are_out_of_scale() {
+    let mdpa = cases::plates(-0.01).to_mdpa();
+    let base = serde_json::json!({
+        "contact_model_part": {"0": ["Slave", "Master"]},
+        "assume_master_slave": {"0": ["Slave"]},
+        "search_parameters": {},
+    });
+    let probe_warnings = |mode: &str, t: Transform| {
+        let setup = run::setup_for(&base, mode, "mapping_check", t);
+        let (r, _) = run_case(&run::transformed(&mdpa, t), &setup, None).expect("run");
+        let n = r
+            .warnings
+            .iter()
+            .filter(|w| w.starts_with("normal check"))
+            .count();
+        (n, r)
+    };
+    assert_eq!(probe_warnings("kratos", Transform::Identity).0, 0);
+    for s in [1e-9, 1e4] {
+        let (n, _) = probe_warnings("kratos", Transform::Scale(s));
+        assert_eq!(n, 1, "scale {s}");
+        let (n, robust) = probe_warnings("robust", Transform::Scale(s));
+        assert_eq!(n, 0, "scale {s}");
+        assert!(
+            robust.node_gaps.values().all(|g| *g < 0.0) && !robust.node_gaps.is_empty(),
+            "scale {s}: {:?}",
+            robust.node_gaps
+        );
+    }
+}

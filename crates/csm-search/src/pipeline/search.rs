@@ -170,7 +170,9 @@ impl ContactSearch {
         };
         let initial_normals = match plan.normal_check {
             Decision::Used(NormalCheck::Full { .. }) => {
-                Some(normal_check_with_normals(model, &normal_settings)?.1)
+                let (report, kept) = normal_check_with_normals(model, &normal_settings)?;
+                warnings.extend(report.warnings());
+                Some(kept)
             }
             Decision::Used(NormalCheck::NormalsOnly) => {
                 Some(normal_check_normals_only_with_normals(model, &normal_settings)?.1)

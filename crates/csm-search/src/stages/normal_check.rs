@@ -82,6 +82,34 @@ pub struct NormalCheckReport {
     pub inward_nodes: Vec<u32>,
     /// Conditions inverted in pass 2 (all their nodes had an inward normal).
     pub inverted_conditions_by_nodes: Vec<ConditionId>,
+    /// Kratos mode: hexahedra and prisms with an INTERFACE node whose node probe
+    /// (`length_proportion · √|det J(0)|`, a length to the power 1.5) is outside
+    /// [`PROBE_RANGE`] times the element's size: too short, it drowns in the inside test's
+    /// tolerance (at scale 5e-9 every node reads as inward); too long, it can pass through the
+    /// element.
+    pub misscaled_probes: usize,
+}
+
+/// The node probe's length, relative to the element's size, within which kratos mode's
+/// normal check is trusted (a hexahedron of size 1 has 0.035 with the default proportion;
+/// the bounds are reached at sizes of about 1e-5 and 1e3).
+pub const PROBE_RANGE: (f64, f64) = (1e-4, 1.0);
+
+impl NormalCheckReport {
+    /// The warnings a user should read (kratos mode's misscaled probes).
+    pub fn warnings(&self) -> Vec<String> {
+        if self.misscaled_probes == 0 {
+            return Vec::new();
+        }
+        vec![format!(
+            "normal check: the node probes of {} hexahedra/prisms are scaled by Kratos' \
+             Length() = sqrt|det J|, a length to the power 1.5: at this mesh scale they are \
+             shorter than {:e} or longer than {} times the element, so the orientation test \
+             is unreliable (every node reads as inward on meshes scaled to about 1e-8); \
+             \"compatibility\": \"robust\" scales the probes with the element",
+            self.misscaled_probes, PROBE_RANGE.0, PROBE_RANGE.1
+        )]
+    }
 }
 
 /// Stage 2: checks and fixes the orientation of elements and conditions (Kratos
@@ -167,7 +195,7 @@ pub fn normal_check_with_normals(
         .unwrap_or_default();
     let mut inward = vec![false; model.nodes().len()];
     let order = model.elements().indices_by_id();
-    let tests: Vec<Result<Vec<NodeIdx>, Error>> = {
+    let tests: Vec<Result<(Vec<NodeIdx>, bool), Error>> = {
         let m = &*model;
         order
             .par_iter()
@@ -177,7 +205,9 @@ pub fn normal_check_with_normals(
             .collect()
     };
     for test in tests {
-        for n in test? {
+        let (nodes, misscaled) = test?;
+        report.misscaled_probes += usize::from(misscaled);
+        for n in nodes {
             model.nodes_mut().flags_mut()[n.index()].set(Flag::MARKER, true);
             inward[n.index()] = true;
         }
@@ -282,28 +312,30 @@ fn inward_faces(
 }
 
 /// Pass 2 on element `e`: the INTERFACE nodes of a solid element whose normal, scaled by
-/// `lp` times the element's length, points inside it.
+/// `lp` times the element's length, points inside it, and whether that length is misscaled
+/// ([`probe_length`]).
 fn inward_nodes(
     model: &ModelPart,
     e: usize,
     normals: &[Vector],
     (lp, tol, kratos): (f64, f64, bool),
     points: &mut Vec<Point>,
-) -> Result<Vec<NodeIdx>, Error> {
+) -> Result<(Vec<NodeIdx>, bool), Error> {
     let kind = model.elements().kind(e);
     if !kind.is_solid() {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), false));
     }
     let nodes = model.elements().nodes(e);
     let flags = model.nodes().flags();
     // Kratos computes the element's Length() for an INTERFACE node only: an element without
     // one is neither measured nor tested (pass 1 built its geometry already).
     if !nodes.iter().any(|n| flags[n.index()].is(Flag::INTERFACE)) {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), false));
     }
     model.gather_points(nodes, points);
     let element = Geometry::new(kind, points).map_err(|err| element_error(model, e, err))?;
-    let length = probe_length(&element, kratos).map_err(|err| element_error(model, e, err))?;
+    let (length, misscaled) =
+        probe_length(&element, (lp, kratos)).map_err(|err| element_error(model, e, err))?;
     let mut inward = Vec::new();
     let mut checked = false;
     for (n, x) in nodes.iter().zip(points.iter()) {
@@ -319,21 +351,34 @@ fn inward_nodes(
             inward.push(*n);
         }
     }
-    Ok(inward)
+    Ok((inward, misscaled))
 }
 
 /// The length the node probes of a solid element are scaled by. Kratos takes `Length()`,
 /// which for hexahedra and prisms is `√|det J(0)|`, a length to the power 1.5: under a scaling
 /// by `s` the probe moves `s^1.5` instead of `s`, and below `s ≈ 5e-9` every probe lands inside
 /// (every condition taken as inverted). Robust mode takes a true length there, the cube root
-/// of the volume; tetrahedra and 2D solids keep Kratos' length, proportional already.
-fn probe_length(element: &Geometry<'_>, kratos: bool) -> Result<f64, csm_geometry::Error> {
+/// of the volume; tetrahedra and 2D solids keep Kratos' length, proportional already. The
+/// flag: kratos mode's probe `lp · length` of a hexahedron or prism is outside
+/// [`PROBE_RANGE`] times the element's size.
+fn probe_length(
+    element: &Geometry<'_>,
+    (lp, kratos): (f64, bool),
+) -> Result<(f64, bool), csm_geometry::Error> {
     use csm_geometry::GeometryKind as K;
     match element.kind() {
-        K::Hexahedra3D8 | K::Hexahedra3D20 | K::Hexahedra3D27 | K::Prism3D6 if !kratos => {
-            Ok(element.volume()?.cbrt())
+        K::Hexahedra3D8 | K::Hexahedra3D20 | K::Hexahedra3D27 | K::Prism3D6 if kratos => {
+            // `length = √|det J(0)|`; a parallelepiped's volume is `8 |det J(0)|`, so its size
+            // is `2 ∛(length²)` (no volume integral in kratos mode).
+            let length = element.length()?;
+            let relative = lp * length / (2.0 * (length * length).cbrt());
+            let off = !(PROBE_RANGE.0..=PROBE_RANGE.1).contains(&relative);
+            Ok((length, off))
         }
-        _ => element.length(),
+        K::Hexahedra3D8 | K::Hexahedra3D20 | K::Hexahedra3D27 | K::Prism3D6 => {
+            Ok((element.volume()?.cbrt(), false))
+        }
+        _ => Ok((element.length()?, false)),
     }
 }
 
