@@ -76,6 +76,8 @@ struct Row {
     type_search: String,
     csm1: Run,
     csm2: Run,
+    /// csm in `"compatibility": "robust"` with 1 thread (the default type_search only).
+    robust1: Option<Run>,
     kratos: Option<Run>,
 }
 
@@ -296,7 +298,19 @@ pub fn bench(args: &[String]) -> Result<()> {
                     }))?,
                 )?;
                 eprintln!("bench: {scene} {size} ({slave} slave faces) {ty}");
-                let csm_run = |threads: &str| -> Result<Run> {
+                let robust_setup = dir.join(format!("setup_{ty}_robust.json"));
+                std::fs::write(
+                    &robust_setup,
+                    serde_json::to_string_pretty(&json!({
+                        "model_part_name": "Structure",
+                        "contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
+                        "assume_master_slave": {"0": ["Parts_Slave"]},
+                        "contact_type": "Frictionless",
+                        "compatibility": "robust",
+                        "search_parameters": {"type_search": ty},
+                    }))?,
+                )?;
+                let csm_run = |threads: &str, setup: &Path| -> Result<Run> {
                     let out = dir.join(format!("csm_{threads}.json"));
                     let mut best: Option<Run> = None;
                     for _ in 0..o.repeat.max(1) {
@@ -326,8 +340,13 @@ pub fn bench(args: &[String]) -> Result<()> {
                     }
                     best.context("no run")
                 };
-                let csm1 = csm_run("1")?;
-                let csm2 = csm_run("2")?;
+                let csm1 = csm_run("1", &setup)?;
+                let csm2 = csm_run("2", &setup)?;
+                let robust1 = if ty == TYPES[0] {
+                    Some(csm_run("1", &robust_setup)?)
+                } else {
+                    None
+                };
                 let kratos = if o.kratos && ty != "kdop_18" {
                     let out = dir.join("kratos.json");
                     let (wall, rss) = timed(
@@ -353,6 +372,7 @@ pub fn bench(args: &[String]) -> Result<()> {
                     type_search: ty,
                     csm1,
                     csm2,
+                    robust1,
                     kratos,
                 };
                 eprintln!(
@@ -391,6 +411,7 @@ fn rows_json(rows: &[Row]) -> Value {
                    "master_faces": r.master, "type_search": r.type_search,
                    "identical_pairs": r.identical(), "csm_1_thread": run_json(&r.csm1),
                    "csm_2_threads": run_json(&r.csm2),
+                   "csm_robust_1_thread": r.robust1.as_ref().map(run_json),
                    "kratos": r.kratos.as_ref().map(run_json)})
         })
         .collect()
@@ -528,6 +549,34 @@ fn report(rows: &[Row], o: &Options) -> Result<String> {
                 .kratos
                 .as_ref()
                 .map_or(f64::NAN, |k| k.t("search"))))),
+        )?;
+    }
+    writeln!(s, "\n## Robust mode\n")?;
+    writeln!(
+        s,
+        "`\"compatibility\": \"robust\"` on the default type_search, 1 thread (the fastest of \
+         {} runs), against the default kratos mode of the same run: its own pairs (robust \
+         boxes, SAT and segmentation) and the mapping solved directly relative to each slave \
+         node instead of Kratos' iterations.\n",
+        o.repeat
+    )?;
+    writeln!(
+        s,
+        "| scene | slave faces | pairs (kratos) | pairs (robust) | search kratos (s) | search robust (s) | robust / kratos |"
+    )?;
+    writeln!(s, "|---|---|---|---|---|---|---|")?;
+    for r in rows {
+        let Some(rb) = &r.robust1 else { continue };
+        writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {:.2} |",
+            r.scene,
+            r.slave,
+            r.csm1.n_pairs(),
+            rb.n_pairs(),
+            secs(r.csm1.t("search")),
+            secs(rb.t("search")),
+            rb.t("search") / r.csm1.t("search"),
         )?;
     }
     writeln!(s, "\n## Targets\n")?;
