@@ -369,10 +369,13 @@ fn probe_length(
     match element.kind() {
         K::Hexahedra3D8 | K::Hexahedra3D20 | K::Hexahedra3D27 | K::Prism3D6 if kratos => {
             // `length = √|det J(0)|`; a parallelepiped's volume is `8 |det J(0)|`, so its size
-            // is `2 ∛(length²)` (no volume integral in kratos mode).
+            // is `2 ∛(length²)` and the probe relative to it is `r = lp · length / (2
+            // ∛(length²))`, compared through `r³ = lp³ · length / 8` (no volume integral, no
+            // cube root in kratos mode).
             let length = element.length()?;
-            let relative = lp * length / (2.0 * (length * length).cbrt());
-            let off = !(PROBE_RANGE.0..=PROBE_RANGE.1).contains(&relative);
+            let cubed = lp * lp * lp * length / 8.0;
+            let (lo, hi) = PROBE_RANGE;
+            let off = !(lo * lo * lo..=hi * hi * hi).contains(&cubed);
             Ok((length, off))
         }
         K::Hexahedra3D8 | K::Hexahedra3D20 | K::Hexahedra3D27 | K::Prism3D6 => {
