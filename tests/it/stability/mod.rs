@@ -479,3 +479,26 @@ fn kratos_mode_warns_where_its_node_probes_are_out_of_scale() {
         );
     }
 }
+
+// See: issue 24, cause 5 (Kratos' 2D projection drops master nodes far from the origin).
+/// Kratos mode says how many 2D master-node projections it lost to rounding, where it loses
+/// them (the 2D fixture moved by 1e8 in its plane); robust mode loses none and says nothing.
+#[test]
+fn kratos_mode_warns_where_its_2d_projection_drops_master_nodes() {
+    let case = cases::all()
+        .into_iter()
+        .find(|c| c.name == "cylinder_on_block_2d")
+        .expect("the 2D fixture case");
+    let lost = |mode: &str, t: Transform| {
+        let setup = run::setup_for(&case.setup, mode, "mapping_check", t);
+        let (r, _) = run_case(&run::transformed(&case.mdpa, t), &setup, None).expect("run");
+        r.warnings
+            .iter()
+            .filter(|w| w.starts_with("2D mortar segmentation"))
+            .count()
+    };
+    let far = Transform::Translate(csm::prelude::Vector::new(1e8, 0.0, 0.0));
+    assert_eq!(lost("kratos", Transform::Identity), 0);
+    assert_eq!(lost("kratos", far), 1);
+    assert_eq!(lost("robust", far), 0);
+}

@@ -101,6 +101,11 @@ pub struct MappingReport {
     /// origin, so that Kratos' `|AUX| > ε` test reads them as not mapped (Q39: they keep the
     /// 1e12 sentinel and turn inactive). Robust mode tracks mapped nodes and has none.
     pub origin_nodes: usize,
+    /// Kratos mode: master nodes of 2D pairs that Kratos' projection onto the slave dropped
+    /// because its test on `Δξ`, computed from absolute coordinates, never passed, where the
+    /// projection relative to the slave converges (far from the origin: the pairs lose overlap
+    /// or are removed). Robust mode projects relative to the slave and has none.
+    pub lost_projections: usize,
 }
 
 impl MappingReport {
@@ -122,6 +127,15 @@ impl MappingReport {
                  sentinel and are inactive (Q39); \"compatibility\": \"robust\" knows which \
                  nodes are mapped",
                 self.origin_nodes
+            ));
+        }
+        if self.lost_projections > 0 {
+            warnings.push(format!(
+                "2D mortar segmentation: {} master-node projection(s) did not converge in \
+                 Kratos' absolute coordinates (they do relative to the slave), so those nodes \
+                 were dropped and their pairs lost overlap or were removed (MappingCheck); \
+                 \"compatibility\": \"robust\" projects relative to the slave",
+                self.lost_projections
             ));
         }
         if self.converged && self.standard_basis_pairs == 0 {
@@ -344,6 +358,7 @@ fn normal_gap_process_inner(
             report.removed.append(&mut mapped.removed);
             gaps.append(&mut mapped.gaps);
             standard.append(&mut mapped.standard);
+            report.lost_projections += mapped.lost_projections;
         }
         let segmented = Segmented {
             first: None,

@@ -3,8 +3,9 @@
 
 use csm_geometry::math::{Real, Vector};
 use csm_geometry::{
-    MAX_FACE_NODES, MAX_MORTAR_FACE_NODES, MortarOperators, OperatorSettings, Segmentation,
-    SegmentationSettings, SlaveSegmentation, dual_basis_in, integration_points, mortar_operators,
+    MAX_FACE_NODES, MAX_MORTAR_FACE_NODES, MortarMode, MortarOperators, OperatorSettings,
+    Segmentation, SegmentationSettings, SlaveSegmentation, dual_basis_in, integration_points,
+    line_projections_lost_to_rounding, mortar_operators,
 };
 use csm_model::{ConditionId, ConditionIdx, ModelPart};
 
@@ -32,6 +33,9 @@ pub(super) struct SlaveMapping {
     /// The slave condition of every kept pair whose `Me` was too ill-conditioned for the
     /// dual basis (the standard basis instead: `D` is not diagonal).
     pub(super) standard: Vec<ConditionIdx>,
+    /// Kratos mode: master nodes of 2D pairs its projection dropped to rounding
+    /// ([`line_projections_lost_to_rounding`]).
+    pub(super) lost_projections: usize,
 }
 
 impl SlaveMapping {
@@ -271,6 +275,9 @@ fn map_slave(
         let seg = segmentation
             .segment(&master)
             .map_err(|e| Error::condition("mortar segmentation", slave_id, &e))?;
+        if seg_settings.mode == MortarMode::Kratos {
+            out.lost_projections += line_projections_lost_to_rounding(&slave, &master);
+        }
         let Some(seg) = seg.filter(|g| !g.cells().is_empty()) else {
             out.removed.push(RemovedEntry {
                 slave: sc,

@@ -122,6 +122,7 @@ pub(super) fn stream_first_iterations(
         for mut mapped in segment_slaves(m, conditions, tasks)? {
             report.kept += mapped.kept.len();
             standard.append(&mut mapped.standard);
+            report.lost_projections += mapped.lost_projections;
             report.removed.append(&mut mapped.removed);
             first.gaps.append(&mut mapped.gaps);
             if mapped.kept.is_empty() {

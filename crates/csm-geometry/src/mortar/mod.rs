@@ -39,4 +39,5 @@ pub use integration_points::{
     integration_points, integration_points_with_normals,
 };
 pub use operators::{MortarOperators, mortar_operators};
+pub use segment_line_line::line_projections_lost_to_rounding;
 pub use segmentation::{SlaveSegmentation, exact_segmentation};

@@ -119,6 +119,26 @@ pub(super) fn segment_line_line(
     Ok(Segmentation::new(vec![cell], settings.mode))
 }
 
+/// The master nodes of a Line2D2 pair that [`MortarMode::Kratos`]' projection onto the slave
+/// drops (no convergence in absolute coordinates) while the same projection relative to the
+/// slave's first node converges: nodes lost to rounding far from the origin, so that Kratos'
+/// segmentation of the pair loses overlap or the pair. 0 for other kinds.
+pub fn line_projections_lost_to_rounding(slave: &MortarFace<'_>, master: &MortarFace<'_>) -> usize {
+    let two_lines = |f: &MortarFace<'_>| f.geometry().kind() == crate::GeometryKind::Line2D2;
+    if !(two_lines(slave) && two_lines(master)) {
+        return 0;
+    }
+    let limits = (NEWTON_2D_TOLERANCE, NEWTON_2D_MAX_ITERATIONS);
+    (0..2)
+        .filter(|&j| {
+            let start = if j == 0 { (-1.0, 0.5) } else { (1.0, -0.5) };
+            let x = &master.geometry().points()[j];
+            project_iterative_line(slave, x, start, limits, MortarMode::Kratos).is_none()
+                && project_iterative_line(slave, x, start, limits, MortarMode::Robust).is_some()
+        })
+        .count()
+}
+
 /// Kratos `GeometricalProjectionUtilities::ProjectIterativeLine2D`: the local coordinate `ξ`
 /// on the slave line whose interpolated, normalised nodal normal `n(ξ)` passes through
 /// `x_master`. Each Newton step intersects the line `x_master + s·n(ξ)` with the plane through
