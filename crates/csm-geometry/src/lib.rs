@@ -44,7 +44,7 @@ pub use intersection::{
 pub use kdop::{KDOP18_DIRECTIONS, Kdop18};
 pub use kind::GeometryKind;
 pub use mortar::*;
-pub use obb::{OBB_TIE_TOLERANCE, Obb, Obb2};
+pub use obb::{Obb, Obb2};
 pub use projection::{fast_project, fast_project_direction};
 pub use shape::{
     MAX_NODES, ShapeDerivatives, ShapeValues, reference_node_coordinates, shape_derivatives,

@@ -1,6 +1,6 @@
 //! Robust mode's final MappingCheck and DirectCheck pair sets, ACTIVE flags and mapped gaps
 //! do not change under a random translation (up to 1e6), rotation (random axis and angle),
-//! uniform scaling (1e-6 … 1e6) or similarity (scale 1e-9 … 1e6, rotation, offset up to 1e8)
+//! uniform scaling (1e-6 … 1e6) or similarity (scale `s` in 1e-9 … 1e6, rotation, offset up to `s`·1e8)
 //! of the mesh (pairs whose overlap area is below 1e-9 of the slave's area excepted; gaps
 //! within `1e-6·h + 64ε·(|t|/s + extent)`). NODAL_H comes from FindNodalHProcess, so it scales
 //! with the mesh. Small scenes (some drawn at random), 16 cases each.
@@ -28,7 +28,10 @@ fn transform() -> impl Strategy<Value = Transform> {
     ]
 }
 
-/// `x ↦ s·R·x + t` with `s` in 1e-9 … 1e6, a random rotation and `|t|` up to 1e8.
+/// `x ↦ s·(R·x + u)` with `s` in 1e-9 … 1e6, a random rotation and `|u|` up to 1e8 (the
+/// translation `t = s·u` in units of the scaled mesh: a mesh of element size `s` moved by
+/// far more than `s·1e8` is not representable in f64 any more — at 2e-9 moved by 8e5 its
+/// coordinates carry the elements to 7 %).
 fn similarity() -> impl Strategy<Value = Transform> {
     (
         -9.0..6.0f64,
@@ -44,7 +47,7 @@ fn similarity() -> impl Strategy<Value = Transform> {
                 scale: 10f64.powf(e),
                 axis: Vector::new(x, y, z),
                 angle,
-                offset: Vector::new(ox, oy, oz) * 10f64.powf(d),
+                offset: Vector::new(ox, oy, oz) * 10f64.powf(d) * 10f64.powf(e),
             },
         )
 }

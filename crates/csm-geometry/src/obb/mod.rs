@@ -3,10 +3,10 @@
 //! 2D rule —, or face normal — branch B), with the enlargement factor, and their vertices.
 //! The intersection tests live in `crate::intersection`.
 
+mod build_first_edge;
 mod build_from_aabb;
 mod build_from_normal;
 mod build_from_segment;
-mod build_min_area;
 #[allow(clippy::module_inception)]
 mod obb;
 mod obb2;
@@ -14,6 +14,5 @@ mod obb2;
 #[cfg(test)]
 mod tests;
 
-pub use build_min_area::OBB_TIE_TOLERANCE;
 pub use obb::Obb;
 pub use obb2::Obb2;

@@ -43,7 +43,7 @@ impl Bv {
             (_, false) => {
                 Obb::from_geometry(geometry, enlargement, build_from_bounding_box).map(Bv::D3)
             }
-            (_, true) => Obb::build_on_normal_min_area(geometry, enlargement).map(Bv::D3),
+            (_, true) => Obb::build_on_normal_first_edge(geometry, enlargement).map(Bv::D3),
         }
     }
 
