@@ -357,8 +357,9 @@ fn inward_nodes(
 /// The length the node probes of a solid element are scaled by. Kratos takes `Length()`,
 /// which for hexahedra and prisms is `√|det J(0)|`, a length to the power 1.5: under a scaling
 /// by `s` the probe moves `s^1.5` instead of `s`, and below `s ≈ 5e-9` every probe lands inside
-/// (every condition taken as inverted). Robust mode takes a true length there, the cube root
-/// of the volume; tetrahedra and 2D solids keep Kratos' length, proportional already. The
+/// (every condition taken as inverted). Robust mode takes a true length there, `2 ∛|det J(0)|`
+/// (the edge of a cube, the size of a parallelepiped); tetrahedra and 2D solids keep Kratos'
+/// length, proportional already. The
 /// flag: kratos mode's probe `lp · length` of a hexahedron or prism is outside
 /// [`PROBE_RANGE`] times the element's size.
 fn probe_length(
@@ -378,8 +379,11 @@ fn probe_length(
             let off = !(lo * lo * lo..=hi * hi * hi).contains(&cubed);
             Ok((length, off))
         }
+        // The size of the same parallelepiped, `2 ∛|det J(0)|`: proportional to the element
+        // under any scaling, without a volume integral.
         K::Hexahedra3D8 | K::Hexahedra3D20 | K::Hexahedra3D27 | K::Prism3D6 => {
-            Ok((element.volume()?.cbrt(), false))
+            let length = element.length()?;
+            Ok((2.0 * (length * length).cbrt(), false))
         }
         _ => Ok((element.length()?, false)),
     }
