@@ -2,7 +2,8 @@
 //! `docs/performance.md` (tables, targets, growth exponents) and `docs/performance.svg`.
 //!
 //! For every scene of `tools/bench_scenes.py` (gmsh; sphere on plate, stacked blocks) at every
-//! size, and every type_search asked for: `csm search` with `--threads 1` and `--threads 2` and,
+//! size, and every type_search asked for: `csm search` with `--threads 1` and `--threads 2`
+//! (and, on the default type_search, in `"compatibility": "robust"` with one thread) and,
 //! unless `--no-kratos`, `tools/kratos_bench.py` (one thread), each under `/usr/bin/time`
 //! (whole-process wall time, peak resident memory). Every row checks that the pair sets are
 //! identical (csm 1 thread = csm 2 threads = Kratos); a row where they differ says so. The raw
@@ -286,30 +287,26 @@ pub fn bench(args: &[String]) -> Result<()> {
             };
             let (mesh, slave, master) = meshes[&(scene.clone(), size.clone())].clone();
             for ty in types {
-                let setup = dir.join(format!("setup_{ty}.json"));
-                std::fs::write(
-                    &setup,
-                    serde_json::to_string_pretty(&json!({
+                // The setup of this type_search, written to a file: Kratos' keys only (Kratos
+                // reads it too), `"compatibility"` added for robust mode.
+                let write_setup = |compatibility: &str| -> Result<PathBuf> {
+                    let path = dir.join(format!("setup_{ty}_{compatibility}.json"));
+                    let mut setup = json!({
                         "model_part_name": "Structure",
                         "contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
                         "assume_master_slave": {"0": ["Parts_Slave"]},
                         "contact_type": "Frictionless",
                         "search_parameters": {"type_search": ty},
-                    }))?,
-                )?;
+                    });
+                    if compatibility != "kratos" {
+                        setup["compatibility"] = compatibility.into();
+                    }
+                    std::fs::write(&path, serde_json::to_string_pretty(&setup)?)?;
+                    Ok(path)
+                };
+                let setup = write_setup("kratos")?;
+                let robust_setup = write_setup("robust")?;
                 eprintln!("bench: {scene} {size} ({slave} slave faces) {ty}");
-                let robust_setup = dir.join(format!("setup_{ty}_robust.json"));
-                std::fs::write(
-                    &robust_setup,
-                    serde_json::to_string_pretty(&json!({
-                        "model_part_name": "Structure",
-                        "contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
-                        "assume_master_slave": {"0": ["Parts_Slave"]},
-                        "contact_type": "Frictionless",
-                        "compatibility": "robust",
-                        "search_parameters": {"type_search": ty},
-                    }))?,
-                )?;
                 let csm_run = |threads: &str, setup: &Path| -> Result<Run> {
                     let out = dir.join(format!("csm_{threads}.json"));
                     let mut best: Option<Run> = None;
