@@ -3,7 +3,7 @@
 use csm_geometry::math::Real;
 use csm_geometry::{
     DualBasis, MortarIntegrationPoint, MortarMode, MortarOperators, OperatorSettings,
-    SegmentationSettings, dual_basis, exact_segmentation, integration_points,
+    SegmentationSettings, dual_basis_in, exact_segmentation, integration_points,
     integration_points_with_normals, mortar_operators,
 };
 use csm_geometry::{Geometry, MAX_MORTAR_FACE_NODES, MortarFace, Segmentation};
@@ -321,14 +321,18 @@ pub(crate) fn segmented_pair_gap(
         None => {
             let gps = integration_points(slave, master, seg, &OperatorSettings::explicit())
                 .map_err(wrap("mortar integration"))?;
-            let basis = dual_basis(slave, &gps);
+            let basis = dual_basis_in(slave, &gps, seg.mode());
             mortar_operators(slave, master, &gps, Some(&basis))
         }
     };
     // Kratos: `D_x1_M_x2 = prod(D, x1) − prod(M, x2)`, then
-    // `WEIGHTED_GAP_i += inner_prod(row_i, −n_i)` (sums in index order from 0).
+    // `WEIGHTED_GAP_i += inner_prod(row_i, −n_i)` (sums in index order from 0). Robust mode
+    // takes every point relative to the slave node `i`: the same value in exact arithmetic
+    // (`Σ_j D_ij = Σ_m M_im`, the shape functions sum to one), without the cancellation of two
+    // sums of absolute coordinates far from the origin.
     // `slave` is a mortar face of these points: it has at most four nodes.
     debug_assert!(sdata.points.len() <= MAX_MORTAR_FACE_NODES);
+    let relative = seg.mode() == MortarMode::Robust;
     let mut out = PairGap {
         len: sdata.points.len(),
         gaps: [0.0; MAX_MORTAR_FACE_NODES],
@@ -337,13 +341,14 @@ pub(crate) fn segmented_pair_gap(
         let normal = sdata.nodal_normals[i];
         let mut g = 0.0;
         for k in 0..dim {
+            let origin = if relative { sdata.points[i][k] } else { 0.0 };
             let mut dx = 0.0;
             for (j, p) in sdata.points.iter().enumerate() {
-                dx += ops.d[(i, j)] * p[k];
+                dx += ops.d[(i, j)] * (p[k] - origin);
             }
             let mut mx = 0.0;
             for (j, p) in mdata.points.iter().enumerate() {
-                mx += ops.m[(i, j)] * p[k];
+                mx += ops.m[(i, j)] * (p[k] - origin);
             }
             g += (dx - mx) * -normal[k];
         }

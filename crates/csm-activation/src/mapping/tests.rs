@@ -4,7 +4,7 @@
 use csm_geometry::GeometryKind;
 use csm_geometry::math::{Point, Real};
 use csm_model::{
-    ConditionId, Flag, ModelPart, NodeId, NodeIdx, PartIdx, PropertiesId, ScalarVar,
+    ConditionId, ConditionIdx, Flag, ModelPart, NodeId, NodeIdx, PartIdx, PropertiesId, ScalarVar,
     compute_unit_normals,
 };
 
@@ -180,4 +180,43 @@ fn robust_mapping_knows_a_point_mapped_onto_the_origin_is_mapped() {
         warnings.len() == 1 && warnings[0].contains("1 slave node(s) were mapped onto the origin"),
         "{warnings:?}"
     );
+}
+
+/// The weighted gap of the standard-basis scene in `mode`, by slave node, with the interface
+/// at height `z0`.
+fn weighted_gaps(z0: Real, mode: MortarMode) -> Vec<Real> {
+    let (mut m, sub) = scene(z0, 0.001, 1.0, &TWO_TRIANGLES);
+    m.nodal_data_mut().add_scalar(ScalarVar::WeightedGap);
+    let pairs = [
+        (ConditionIdx(0), ConditionIdx(1)),
+        (ConditionIdx(0), ConditionIdx(2)),
+    ];
+    crate::compute_weighted_gap(&mut m, sub, &pairs, (mode, 1e24), 3, None).unwrap();
+    m.nodal_data().scalar(ScalarVar::WeightedGap, 0).unwrap()[..4].to_vec()
+}
+
+// See: issue 24 (the weighted gap subtracts two sums of absolute coordinates).
+#[test]
+fn robust_weighted_gap_is_the_same_far_from_the_origin() {
+    let near = weighted_gaps(0.0, MortarMode::Robust);
+    // Σ_i wg_i = −0.001 · the overlap area (0.5) of the flat interface.
+    let total: Real = near.iter().sum();
+    assert!((total + 0.0005).abs() < 1e-15, "{near:?}");
+    for z0 in [1e3, 1e6, 1e8] {
+        let far = weighted_gaps(z0, MortarMode::Robust);
+        for (f, n) in far.iter().zip(&near) {
+            assert!(
+                (f - n).abs() <= 64.0 * Real::EPSILON * 1e-3 * z0,
+                "z0 {z0}: {far:?}"
+            );
+        }
+    }
+    // Kratos' arithmetic at 1e8: the cancellation of the absolute sums is of order ε·1e8.
+    let kratos = weighted_gaps(1e8, MortarMode::Kratos);
+    let worst = kratos
+        .iter()
+        .zip(&near)
+        .map(|(k, n)| (k - n).abs())
+        .fold(0.0, Real::max);
+    assert!(worst > 1e-10, "{kratos:?}");
 }
