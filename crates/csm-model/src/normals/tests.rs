@@ -1,7 +1,9 @@
 use csm_geometry::GeometryKind;
 use csm_geometry::math::{Point, Vector};
 
+use super::node_sums::{NODE_BLOCK_BITS, sums_by_node_blocks};
 use super::*;
+use crate::GeometryStamp;
 use crate::{ConditionId, NodeId, PropertiesId};
 
 fn model(points: &[[f64; 3]], conditions: &[(GeometryKind, &[u32])]) -> ModelPart {

@@ -1,0 +1,70 @@
+//! The unit normals a step wrote, kept to be written back after the mapping.
+
+use csm_geometry::math::Vector;
+
+use super::conditions_of;
+use crate::{ModelPart, PartIdx, VectorVar};
+
+/// The nodal `NORMAL`s that [`compute_unit_normals`](super::compute_unit_normals) wrote on a part, kept to be written again
+/// when the normals were overwritten since (the mortar mapping's mean normals) but the
+/// coordinates did not move: a second [`compute_unit_normals`](super::compute_unit_normals) would write the same values.
+///
+/// Only the nodal values are kept: the condition normals that the mean normals write are the
+/// same unit normals at the centres ([`face_unit_normals`](super::face_unit_normals)) that [`compute_unit_normals`](super::compute_unit_normals)
+/// writes. Which nodes are written again is decided by the part's conditions when the
+/// snapshot is restored (the nodes [`compute_unit_normals`](super::compute_unit_normals) resets).
+#[derive(Debug, Clone)]
+pub struct UnitNormalsSnapshot {
+    part: Option<PartIdx>,
+    nodal: Vec<Vector>,
+}
+
+impl UnitNormalsSnapshot {
+    /// The current nodal `NORMAL` of every node, to be restored on the nodes of the
+    /// conditions of `part` (all conditions when `None`); `None` when the model has no
+    /// `NORMAL`.
+    pub fn take(model: &ModelPart, part: Option<PartIdx>) -> Option<UnitNormalsSnapshot> {
+        let nodal = model.nodal_data().vector(VectorVar::Normal, 0)?.to_vec();
+        Some(UnitNormalsSnapshot { part, nodal })
+    }
+
+    /// The kept `NORMAL`, by node index (every node of the model).
+    pub fn nodal(&self) -> &[Vector] {
+        &self.nodal
+    }
+
+    /// Puts the kept `NORMAL` back as the whole column (every node; no pass over the part):
+    /// the same as [`UnitNormalsSnapshot::restore`] where, since the snapshot, `NORMAL` changed
+    /// only on nodes of the part's conditions (e.g. the mapping's mean normals, which it
+    /// writes on the nodes of the part's conditions only). Nothing happens if the model lost
+    /// its `NORMAL`; where its nodes changed in number, this is [`UnitNormalsSnapshot::restore`].
+    pub fn restore_all(self, model: &mut ModelPart) {
+        if model.nodal_data().vector(VectorVar::Normal, 0).is_none() {
+            return;
+        }
+        let part = self.part;
+        if let Err(nodal) = model
+            .nodal_data_mut()
+            .set_vector(VectorVar::Normal, self.nodal)
+        {
+            UnitNormalsSnapshot { part, nodal }.restore(model);
+        }
+    }
+
+    /// Writes the kept `NORMAL` of the nodes of the part's conditions back.
+    pub fn restore(self, model: &mut ModelPart) {
+        let mut written = vec![false; model.nodes().len()];
+        for c in conditions_of(model, self.part) {
+            for n in model.conditions().nodes(c.index()) {
+                written[n.index()] = true;
+            }
+        }
+        if let Some(column) = model.nodal_data_mut().vector_mut(VectorVar::Normal, 0) {
+            for ((value, kept), w) in column.iter_mut().zip(&self.nodal).zip(&written) {
+                if *w {
+                    *value = *kept;
+                }
+            }
+        }
+    }
+}
