@@ -17,6 +17,7 @@ mod octree;
 mod pairing;
 mod result;
 mod search;
+mod self_contact;
 mod shared_conditions;
 mod step_jump;
 

@@ -494,7 +494,7 @@ fn kratos_mode_warns_where_its_2d_projection_drops_master_nodes() {
         let (r, _) = run_case(&run::transformed(&case.mdpa, t), &setup, None).expect("run");
         r.warnings
             .iter()
-            .filter(|w| w.starts_with("2D mortar segmentation"))
+            .filter(|w| w.starts_with("pair 0: 2D mortar segmentation"))
             .count()
     };
     let far = Transform::Translate(csm::prelude::Vector::new(1e8, 0.0, 0.0));

@@ -20,6 +20,7 @@ use super::octree::{OctreeContext, search_octree_report};
 pub use super::pairing::PairedCondition;
 use super::pairing::{PairingContext, active_snapshot, apply_candidates};
 use super::result::{NodeResult, SearchResult};
+use super::self_contact::{compute_self_contact_pairing, not_predefined_master_slave};
 use super::shared_conditions::check_contact_model_parts;
 use super::step_jump::compute_step_jump;
 use crate::error::{Error, ErrorKind};
@@ -52,6 +53,10 @@ struct PairSearch {
     /// The kd-tree of the last step, kept for a multi-step run ([`RunMode::keep_tree`]): the
     /// next step refits it when the master-side conditions are the same.
     tree: Option<KeptTree>,
+    /// Roles not predefined: Kratos' point list (`mPointListDestination`), the conditions
+    /// (indices) the kd-tree is built over. Filled with the MASTER conditions when empty, then replaced
+    /// by the self-contact pre-search of every step (reference §12.1).
+    points: Vec<u32>,
 }
 
 /// A kd-tree kept from one step to the next, with the condition ids it was built over (in
@@ -257,6 +262,21 @@ impl ContactSearch {
             for c in model.part(sub).conditions().to_vec() {
                 model.conditions_mut().flags_mut()[c.index()].set(Flag::ACTIVE, false);
             }
+            // Roles not predefined and no MASTER flag (the contact parts had conditions of
+            // their own, to which Kratos gives no role): robust mode makes every condition a
+            // candidate master, the self-contact pre-search then decides the roles (§12).
+            // Kratos rejects below.
+            let unflagged = !params.predefined_master_slave
+                && model
+                    .part(sub)
+                    .conditions()
+                    .iter()
+                    .all(|c| !model.conditions().flags()[c.index()].is(Flag::MASTER));
+            if unflagged && setup.compatibility == Compatibility::Robust {
+                for c in model.part(sub).conditions().to_vec() {
+                    model.conditions_mut().flags_mut()[c.index()].set(Flag::MASTER, true);
+                }
+            }
             // CreatePointListMortar (§4.2): must not be empty.
             let check = !params.inverted_search || !params.predefined_master_slave;
             let has_points = model
@@ -268,7 +288,10 @@ impl ContactSearch {
                 return Err(ErrorKind::RejectedByKratos(format!(
                     "pair {key}: no master conditions to search (\"mPointListDestination not \
                      initialized\" in Kratos; with `assume_master_slave` empty the roles are not \
-                     predefined and Kratos sets no MASTER flag, Q47)"
+                     predefined and Kratos gives the conditions of the contact parts no MASTER \
+                     flag, Q47): list the slave parts in `assume_master_slave`, give the contact \
+                     parts nodes only (Kratos then generates the conditions, all MASTER), or use \
+                     \"compatibility\": \"robust\""
                 ))
                 .into());
             }
@@ -280,6 +303,7 @@ impl ContactSearch {
                 paired: Vec::new(),
                 pruned: Vec::new(),
                 tree: None,
+                points: Vec::new(),
             });
         }
         // TO_ERASE is reset on every Contact condition after the clones (§4.1); csm never
@@ -511,6 +535,7 @@ impl ContactSearch {
                 };
                 let step_warnings = update_mortar_conditions(model, pair, pair_plan, run, initial)?;
                 for w in step_warnings {
+                    let w = format!("pair {}: {w}", pair.key);
                     if !self.warnings.contains(&w) {
                         self.warnings.push(w);
                     }
@@ -890,6 +915,10 @@ fn update_mortar_conditions(
     let max_paired = pair.paired.iter().map(|pc| pc.id.get()).max().unwrap_or(0);
     let condition_id = model.conditions().max_id().max(max_paired);
 
+    // 5. Roles not predefined: the self-contact pre-search decides them (§12.1).
+    if !p.predefined_master_slave {
+        self_contact_roles(model, pair, &p, plan, compatibility, delta.as_deref())?;
+    }
     // 6. SearchUsingOcTree (§8) or SearchUsingKDTree (§5.3).
     let mut created = Vec::new();
     if plan.octree.is_used() {
@@ -927,15 +956,24 @@ fn update_mortar_conditions(
         };
         run_warnings.extend(report.warnings);
     } else {
+        let points = (!p.predefined_master_slave).then(|| pair.points.clone());
+        let pass = KdPass::Main {
+            points,
+            with_obb: plan.obb_test.is_used(),
+        };
         kdtree_search(
             model,
             pair,
-            &p,
+            (&p, pass),
             plan,
             (compatibility, run.keep_tree),
             delta.as_deref(),
             &mut created,
         )?;
+    }
+    // 7. Roles not predefined: both sides of the maps get their flags (§12.3).
+    if !p.predefined_master_slave {
+        not_predefined_master_slave(model, sub);
     }
     finish_pairs(model, pair, created, condition_id);
     crate::trace::mark("pairing");
@@ -1384,7 +1422,7 @@ fn finish_pairs(
 fn kdtree_search(
     model: &mut ModelPart,
     pair: &mut PairSearch,
-    p: &SearchParameters,
+    (p, pass): (&SearchParameters, KdPass),
     plan: &PairPlan,
     (compatibility, keep_tree): (Compatibility, bool),
     delta: Option<&[Vector]>,
@@ -1394,15 +1432,25 @@ fn kdtree_search(
     let sub = pair.sub;
     let dim = usize::from(pair.instance.dim);
     let check = !inverted || !p.predefined_master_slave;
+    let pre_search = matches!(pass, KdPass::SelfContact { .. });
+    let keep_tree = keep_tree && !pre_search;
     let conditions = conditions_by_id(model, sub);
     // The masters in id order and their centres, in two lists the tree takes as its own (no
     // list of pairs to copy: fresh memory is a large part of this stage's cost).
     let flags = model.conditions().flags();
-    let master_list: Vec<u32> = conditions
-        .iter()
-        .filter(|c| flags[c.index()].is(Flag::MASTER) == check)
-        .map(|c| c.get())
-        .collect();
+    let (points, with_obb) = match pass {
+        KdPass::Main { points, with_obb } | KdPass::SelfContact { points, with_obb } => {
+            (points, with_obb)
+        }
+    };
+    let master_list: Vec<u32> = match points {
+        Some(list) => list,
+        None => conditions
+            .iter()
+            .filter(|c| flags[c.index()].is(Flag::MASTER) == check)
+            .map(|c| c.get())
+            .collect(),
+    };
     let centres_of = |list: &[u32]| -> Vec<Point> {
         let coords = model.nodes().coordinates();
         list.par_iter()
@@ -1433,7 +1481,8 @@ fn kdtree_search(
     } else {
         Vec::new()
     };
-    let (mut tree, refitted) = match pair.tree.take() {
+    let kept = if pre_search { None } else { pair.tree.take() };
+    let (mut tree, refitted) = match kept {
         Some(mut kept) if keep_tree && order_free && kept.ids == ids => {
             let mut at = vec![Point::origin(); model.conditions().len()];
             for (&c, x) in master_list.iter().zip(&centres) {
@@ -1458,7 +1507,6 @@ fn kdtree_search(
         .fold(0.0, Real::max);
     let hmax = if hmax < EPS { 1.0 } else { hmax };
     let bbf = p.octree.bounding_box_factor * hmax;
-    let with_obb = plan.obb_test.is_used();
     let with_kdop = plan.kdop.is_used();
     // Master boxes, once per step (Kratos rebuilds one per candidate); No/DirectCheck build
     // them with build_from_bounding_box = true (Q4). Allocated only for the OBB test.
@@ -1495,7 +1543,7 @@ fn kdtree_search(
         .copied()
         .filter(|c| {
             let f = model.conditions().flags()[c.index()];
-            f.is_defined(Flag::ACTIVE) && f.is(Flag::SLAVE) != inverted
+            pre_search || (f.is_defined(Flag::ACTIVE) && f.is(Flag::SLAVE) != inverted)
         })
         .collect();
     let nodal_normals = model
@@ -1623,6 +1671,80 @@ fn kdtree_search(
     }
     for (k, s) in slaves.iter().enumerate() {
         apply_candidates(model, &pcx, *s, candidates.of(k), created);
+    }
+    Ok(())
+}
+
+/// Which kd-tree search [`kdtree_search`] runs.
+enum KdPass {
+    /// SearchUsingKDTree (§5.3): the slave-side conditions against `points` (the MASTER
+    /// conditions when `None`).
+    Main {
+        points: Option<Vec<u32>>,
+        with_obb: bool,
+    },
+    /// The self-contact pre-search (§12.1): every condition against `points`, candidates
+    /// kept by CheckCondition into the INDEX_MAPs, whatever `check_gap`.
+    SelfContact {
+        points: Option<Vec<u32>>,
+        with_obb: bool,
+    },
+}
+
+/// Roles not predefined (§5 step 5, §12.1): the point list (the MASTER conditions when
+/// empty), the pre-search of every condition against it, `ComputeSelfContactPairing`
+/// (§12.2), then the point list becomes the conditions left without candidates (id order)
+/// and every INDEX_MAP is cleared for the main search.
+fn self_contact_roles(
+    model: &mut ModelPart,
+    pair: &mut PairSearch,
+    p: &SearchParameters,
+    plan: &PairPlan,
+    compatibility: Compatibility,
+    delta: Option<&[Vector]>,
+) -> Result<(), Error> {
+    let sub = pair.sub;
+    if pair.points.is_empty() {
+        let flags = model.conditions().flags();
+        pair.points = conditions_by_id(model, sub)
+            .into_iter()
+            .filter(|c| flags[c.index()].is(Flag::MASTER))
+            .map(|c| c.get())
+            .collect();
+    }
+    // CheckCondition always (MappingCheck), build_from_bounding_box for both boxes; the OBB
+    // test only for the kd-tree types with OBB (the octree's pre-search is a radius search).
+    let pre = SearchParameters {
+        check_gap: CheckGap::MappingCheck,
+        ..p.clone()
+    };
+    let with_obb = matches!(
+        p.type_search,
+        SearchTreeType::KdtreeInRadiusWithObb | SearchTreeType::KdtreeInBoxWithObb
+    );
+    let pass = KdPass::SelfContact {
+        points: Some(pair.points.clone()),
+        with_obb,
+    };
+    let mut none = Vec::new();
+    kdtree_search(
+        model,
+        pair,
+        (&pre, pass),
+        plan,
+        (compatibility, false),
+        delta,
+        &mut none,
+    )?;
+    compute_self_contact_pairing(model, sub)?;
+    let conditions = conditions_by_id(model, sub);
+    pair.points = conditions
+        .iter()
+        .filter(|c| model.index_map(**c).is_empty())
+        .map(|c| c.get())
+        .collect();
+    for c in conditions {
+        model.index_map_mut(c).clear();
     }
     Ok(())
 }

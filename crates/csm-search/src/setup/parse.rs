@@ -129,15 +129,30 @@ struct Context {
     compatibility: Compatibility,
     strict: bool,
     warnings: Vec<String>,
+    /// The pair whose parameters are being read, named in every warning about them.
+    pair: Option<String>,
 }
 
 impl Context {
+    /// A warning, prefixed with the pair being read.
+    fn warn(&mut self, message: String) {
+        let message = match &self.pair {
+            Some(key) => format!("pair {key}: {message}"),
+            None => message,
+        };
+        self.warnings.push(message);
+    }
+
     /// A Kratos silent fallback: warned, or an error with `"strict": true`.
     fn fallback(&mut self, message: String) -> Result<(), Error> {
         if self.strict {
+            let message = match &self.pair {
+                Some(key) => format!("pair {key}: {message}"),
+                None => message,
+            };
             return Err(ErrorKind::Strict(message).into());
         }
-        self.warnings.push(message);
+        self.warn(message);
         Ok(())
     }
 }
@@ -160,7 +175,7 @@ fn type_search(s: &str, key: &str, cx: &mut Context) -> Result<SearchTreeType, E
                 .into());
             }
             Compatibility::Robust => {
-                cx.warnings.push(format!(
+                cx.warn(format!(
                     "`{key}`: \"{s}\" runs csm's 18-DOP search in robust mode (Kratos fails on it)"
                 ));
                 SearchTreeType::Kdop
@@ -351,6 +366,7 @@ fn parse_inner(text: &str) -> Result<SearchSetup, Error> {
         compatibility,
         strict,
         warnings: Vec::new(),
+        pair: None,
     };
 
     // What the user wrote in search_parameters, before defaults are filled.
@@ -453,6 +469,7 @@ fn parse_inner(text: &str) -> Result<SearchSetup, Error> {
             continue;
         }
         let slaves = string_list(&ams[key], &format!("assume_master_slave.{key}"))?;
+        cx.pair = Some(key.clone());
         let property_id = Reader {
             map: cpi,
             path: "contact_property_ids",
@@ -506,6 +523,7 @@ fn parse_inner(text: &str) -> Result<SearchSetup, Error> {
             },
         );
     }
+    cx.pair = None;
     if pairs.is_empty() {
         return Err(ErrorKind::NotImplemented(
             "every `contact_model_part` list is empty: Kratos would detect the skin of the \

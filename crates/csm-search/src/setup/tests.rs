@@ -126,6 +126,26 @@ fn silent_fallbacks_are_warned_and_strict_makes_them_errors() {
 }
 
 #[test]
+fn fallback_warnings_name_their_pair() {
+    let s = parse(
+        r#"{ "contact_model_part": {"0": ["S", "M"], "1": ["A", "B"]},
+             "assume_master_slave": {"0": ["S"], "1": ["A"]},
+             "search_parameters": {"check_gap": "gap?"} }"#,
+    );
+    assert_eq!(
+        s.warnings,
+        [
+            "pair 0: `search_parameters.check_gap`: unknown check_gap \"gap?\"; Kratos silently \
+             uses MappingCheck",
+            "pair 1: `search_parameters.check_gap`: unknown check_gap \"gap?\"; Kratos silently \
+             uses MappingCheck",
+        ]
+    );
+    let e = parse_err(&with(r#"{"check_gap": "gap?"}"#, r#", "strict": true"#));
+    assert!(e.to_string().contains("pair 0: "), "{e}");
+}
+
+#[test]
 fn keys_kratos_rejects_are_errors_with_the_line() {
     let text = "{\n \"contact_model_part\": {\"0\": [\"S\"]},\n \"search_parameters\": {\n  \"serch_factor\": 2.0\n }\n}";
     let e = parse_err(text);
