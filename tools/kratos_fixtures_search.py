@@ -107,12 +107,16 @@ NOT_MAPPED = 1.0e12  # NORMAL_GAP sentinel of the mapper ("not mapped")
 # ----------------------------------------------------------------------------------------------
 # Helpers
 # ----------------------------------------------------------------------------------------------
-def concrete_class(model_part, simple, dimension):
+def concrete_class(model_part, simple, dimension, predefined=True):
     """The class ContactSearchWrapperProcess instantiates (reference §2)."""
     prefix = "Simple" if simple else "Advanced"
     if dimension == 2:
         return getattr(CSMA, prefix + "ContactSearchProcess2D2N")
     contact = model_part.GetSubModelPart("Contact")
+    if not predefined:  # the wrapper takes the first condition's node count for both sides
+        size = len(next(iter(contact.Conditions)).GetGeometry())
+        size = 3 if size == 6 else size
+        return getattr(CSMA, prefix + "ContactSearchProcess3D%dN" % size)
     size_master = size_slave = 0
     for cond in contact.Conditions:
         if cond.Is(KM.MASTER):
@@ -243,7 +247,8 @@ class HarnessALMContactProcess(alm_contact_process.ALMContactProcess):
 
     def _create_main_search(self, key="0"):
         params, simple = wrapper_parameters(self._create_search_parameters(key))
-        cls = concrete_class(self.main_model_part, simple, self.dimension)
+        predefined = params["predefined_master_slave"].GetBool()
+        cls = concrete_class(self.main_model_part, simple, self.dimension, predefined)
         self.concrete_class_name = cls.__name__
         self.search_utility_list[key] = cls(self.main_model_part, params, self._get_properties_pair(key))
 
@@ -307,17 +312,29 @@ def run_python(mesh, dim, setup):
             info["interface_error"] = result["error"]
         return result, info
     info["class"] = process.concrete_class_name
-    search = process.search_utility_list["0"]
-    with CapturedLog() as log:
-        search.CheckMortarConditions()
-    maps = parse_index_maps(log.text)
-    sub = mp.GetSubModelPart("Contact").GetSubModelPart("ContactSub0")
-    slaves = sorted(c.Id for c in sub.Conditions if c.Is(KM.SLAVE))
-    # The octree path with No/DirectCheck also fills INDEX_MAPs of master conditions (reference
-    # header: master-master paired conditions); RESULT.json lists slave-side conditions only.
-    unknown = set(maps) - set(slaves)
-    result["pairs"] = {"0": {str(s): maps.get(s, []) for s in slaves}}
-    result["nodes"] = node_values([n for n in sub.Nodes if n.Is(KM.SLAVE)], result["warnings"])
+    # Every pair key, in key order (a ContactSub<key> each).
+    keys = sorted(process.search_utility_list)
+    result["pairs"] = {}
+    maps = {}
+    slave_nodes = {}
+    unknown = set()
+    for key in keys:
+        with CapturedLog() as log:
+            process.search_utility_list[key].CheckMortarConditions()
+        key_maps = parse_index_maps(log.text)
+        sub = mp.GetSubModelPart("Contact").GetSubModelPart("ContactSub" + key)
+        slaves = sorted(c.Id for c in sub.Conditions if c.Is(KM.SLAVE))
+        # The octree path with No/DirectCheck also fills INDEX_MAPs of master conditions
+        # (reference header: master-master paired conditions); RESULT.json lists slave-side
+        # conditions only.
+        unknown |= set(key_maps) - set(slaves)
+        result["pairs"][key] = {str(s): key_maps.get(s, []) for s in slaves}
+        maps.update(key_maps)
+        for n in sub.Nodes:
+            if n.Is(KM.SLAVE):
+                slave_nodes[n.Id] = n
+    sub = mp.GetSubModelPart("Contact")
+    result["nodes"] = node_values(list(slave_nodes.values()), result["warnings"])
     result["paired_conditions"] = mp.GetSubModelPart("ComputingContact").NumberOfConditions()
     result["timings_s"] = {"initialize": t1 - t0, "search": t2 - t1}
     # Cross-check with the paired conditions.
@@ -458,6 +475,14 @@ def python_setups(scene):
                     setup["process_info"] = {"DOMAIN_SIZE": domain_size}
                     name += "__domain_size_%d" % domain_size
                 yield name, setup
+    if scene == "stacked_blocks":
+        # Roles not predefined on parts with conditions of their own: Kratos sets no MASTER
+        # flag and raises "mPointListDestination not initialized" (reference §12).
+        yield "auto_roles__in_radius__mapping_check__advanced", {
+            "model_part_name": "Structure",
+            "contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
+            "contact_type": "Frictionless",
+            "search_parameters": {"type_search": "in_radius", "simple_search": False}}
 
 
 # Kratos' own test meshes (/work/shared/data/kratos-tests, SOURCES.md there) whose contact parts list
@@ -502,14 +527,44 @@ def kratos_meshes():
     ]
 
 
-def kratos_mesh_setups(base):
+# Kratos test meshes kept in this repository (tests/data/kratos/, SOURCES.md there), run with the
+# roles decided automatically (`assume_master_slave` absent: predefined_master_slave false,
+# reference §12). One interface.json per scene compares the generated conditions of every run,
+# flags included, so a scene runs with one kind of roles only.
+REPO_KRATOS_DIR = "tests/data/kratos"
+AUTO_BASE = {"model_part_name": "Structure", "contact_type": "Frictionless",
+             "contact_model_part": {"0": ["Contact_Part"]}}
+
+
+def repo_kratos_meshes():
+    """(scene, mdpa path, dimension, setups) of the meshes of tests/data/kratos."""
+    return [
+        ("kratos_simplest_patch", "%s/3D_contact_simplest_patch_matching_test.mdpa" % REPO_KRATOS_DIR, 3,
+         list(kratos_mesh_setups(AUTO_BASE, "auto_roles__"))),
+        ("kratos_hertz", "%s/hertz_simple_test.mdpa" % REPO_KRATOS_DIR, 2,
+         list(kratos_mesh_setups(AUTO_BASE, "auto_roles__"))),
+        ("kratos_self_contact", "%s/self_contact_test.mdpa" % REPO_KRATOS_DIR, 3,
+         list(kratos_mesh_setups(self_contact_base(), "auto_roles__"))),
+    ]
+
+
+def self_contact_base():
+    """The contact process Parameters of self_contact_test's ProjectParameters file."""
+    path = os.path.join(ROOT, REPO_KRATOS_DIR, "self_contact_test_parameters.json")
+    with open(path) as f:
+        project = json.load(f)
+    (process,) = [p for p in project["processes"]["contact_process_list"] if p["process_name"] == "ALMContactProcess"]
+    return {k: v for k, v in process["Parameters"].items() if k != "search_parameters"}
+
+
+def kratos_mesh_setups(base, prefix=""):
     for ts in KRATOS_TYPES:
         for check in CHECKS:
             for simple in (False, True):
                 sp = {"type_search": ts, "check_gap": check, "simple_search": simple}
                 setup = dict(base)
                 setup["search_parameters"] = sp
-                yield "%s__%s__%s" % (ts, check, "simple" if simple else "advanced"), setup
+                yield "%s%s__%s__%s" % (prefix, ts, check, "simple" if simple else "advanced"), setup
 
 
 def interface_fixture(mesh, setup, interface, runs, error=None):
@@ -619,6 +674,13 @@ def main():
     jobs.append(("plane_cylinder_cpp", "%s/plane_cylinder_cpp.mdpa" % SCENES_DIR, 3, cpp_setups()))
     for short, mdpa, dim, base in kratos_meshes():
         jobs.append(("kratos_" + short, "%s/%s" % (KRATOS_TESTS_DIR, mdpa), dim, kratos_mesh_setups(base)))
+    jobs.extend(repo_kratos_meshes())
+    jobs.append(("condition_ids_10_20", "%s/condition_ids_10_20.mdpa" % REPO_KRATOS_DIR, 3,
+                 [("in_radius__mapping_check__advanced", {
+                     "model_part_name": "Structure", "contact_type": "Frictionless",
+                     "contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
+                     "assume_master_slave": {"0": ["Parts_Slave"]},
+                     "search_parameters": {"type_search": "in_radius"}})]))
     rows = []
     sizes = {}
     interfaces = {}
@@ -649,7 +711,7 @@ def main():
             if "error" in result:
                 row = (scene, name, info.get("class", ""), None, None, None, None, None, result["error"])
             else:
-                pairs = result["pairs"]["0"]
+                pairs = {(k, sid): v for k, ps in result["pairs"].items() for sid, v in ps.items()}
                 row = (scene, name, info.get("class", ""), sum(1 for v in pairs.values() if v),
                        sum(len(v) for v in pairs.values()),
                        sum(1 for v in result["nodes"].values() if v["active"]),

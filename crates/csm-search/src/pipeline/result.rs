@@ -28,6 +28,11 @@ pub struct SearchResult {
     pub nodes: BTreeMap<u32, NodeResult>,
     /// Paired conditions created (Kratos' ComputingContact count).
     pub paired_conditions: usize,
+    /// The contact conditions whose id Kratos changes (file id → Kratos id): its contact
+    /// process numbers every condition of the model 1..N in id order before the search, so
+    /// Kratos' INDEX_MAPs show the new ids. `pairs` keeps the file ids. Written to RESULT.json
+    /// (`kratos_condition_ids`) only when not empty.
+    pub kratos_condition_ids: BTreeMap<u32, u32>,
     /// Warnings of the setup and of the run.
     pub warnings: Vec<String>,
     /// The steps of a multi-step run (SETUP.json `steps`), in order; empty for a single step.
@@ -83,6 +88,14 @@ impl SearchResult {
         out.insert("pairs".into(), Value::Object(pairs));
         out.insert("nodes".into(), Value::Object(nodes));
         out.insert("paired_conditions".into(), json!(self.paired_conditions));
+        if !self.kratos_condition_ids.is_empty() {
+            let ids: Map<String, Value> = self
+                .kratos_condition_ids
+                .iter()
+                .map(|(file, kratos)| (file.to_string(), json!(kratos)))
+                .collect();
+            out.insert("kratos_condition_ids".into(), Value::Object(ids));
+        }
         out.insert("warnings".into(), json!(self.warnings));
         out.insert("timings_s".into(), Value::Object(timings));
         if !self.steps.is_empty() {
@@ -224,6 +237,9 @@ impl serde::Serialize for ResultJson<'_> {
                 m.serialize_entry("pairs", &Pairs(&r.pairs))?;
                 m.serialize_entry("nodes", &Nodes(&r.nodes))?;
                 m.serialize_entry("paired_conditions", &r.paired_conditions)?;
+                if !r.kratos_condition_ids.is_empty() {
+                    m.serialize_entry("kratos_condition_ids", &r.kratos_condition_ids)?;
+                }
                 m.serialize_entry("warnings", &r.warnings)?;
                 m.serialize_entry("timings_s", &Timings(self.timings))?;
                 if !r.steps.is_empty() {
@@ -275,6 +291,7 @@ mod json_tests {
             },
         );
         r.paired_conditions = 2;
+        r.kratos_condition_ids.insert(40, 3);
         r.warnings = vec!["a \"quoted\" warning".into()];
         if steps {
             r.steps = vec![

@@ -1,7 +1,7 @@
 //! The driver: `ExecuteInitialize`, `ExecuteInitializeSolutionStep` and
 //! `ExecuteFinalizeSolutionStep` of Kratos' ALMContactProcess and its search processes.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use csm_geometry::math::{EPS, Point, Real, Vector};
@@ -86,6 +86,11 @@ pub struct ContactSearch {
     /// theirs from them (where the geometry has not changed since:
     /// [`csm_model::compute_unit_normals_from_kept`]); dropped then.
     initial_normals: Option<KeptFaceNormals>,
+    /// The ids Kratos' contact process gives the contact conditions whose file id differs
+    /// (file id → Kratos id): `ALMFastInit` renumbers every condition of the model 1..N in id
+    /// order during `ExecuteInitialize` (reference §1.3 step 11), and Kratos' INDEX_MAPs hold
+    /// the new ids. RESULT.json keeps the file ids and writes this map beside them.
+    kratos_ids: BTreeMap<u32, u32>,
 }
 
 fn model_error(e: csm_model::Error) -> Error {
@@ -308,6 +313,7 @@ impl ContactSearch {
         }
         // TO_ERASE is reset on every Contact condition after the clones (§4.1); csm never
         // sets it, so nothing to reset.
+        let kratos_ids = kratos_condition_ids(model, parts.contact);
         Ok(ContactSearch {
             setup,
             plan,
@@ -317,6 +323,7 @@ impl ContactSearch {
             steps_run: 0,
             warnings,
             initial_normals,
+            kratos_ids,
         })
     }
 
@@ -610,6 +617,7 @@ impl ContactSearch {
     pub fn result(&self, model: &ModelPart) -> SearchResult {
         let mut result = SearchResult {
             warnings: self.warnings.clone(),
+            kratos_condition_ids: self.kratos_ids.clone(),
             ..Default::default()
         };
         let ids = model.conditions().ids();
@@ -675,6 +683,24 @@ impl ContactSearch {
         }
         result
     }
+}
+
+/// The conditions of `contact` whose id changes when every condition of the model is numbered
+/// 1..N in id order (Kratos' `ALMFastInit`), file id → new id.
+fn kratos_condition_ids(model: &ModelPart, contact: PartIdx) -> BTreeMap<u32, u32> {
+    let mut all = model.conditions().ids().to_vec();
+    all.par_sort_unstable();
+    let mut renumbered = BTreeMap::new();
+    for c in model.part(contact).conditions() {
+        let id = model.conditions().ids()[c.index()];
+        // Ids are unique: the position is the new id minus one.
+        if let Ok(at) = all.binary_search(&id)
+            && at as u32 + 1 != id
+        {
+            renumbered.insert(id, at as u32 + 1);
+        }
+    }
+    renumbered
 }
 
 /// `(slave id, master id)` entries as a map from each slave id to its master ids, ascending
