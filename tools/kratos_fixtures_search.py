@@ -73,6 +73,8 @@ import KratosMultiphysics as KM  # noqa: E402
 import KratosMultiphysics.StructuralMechanicsApplication  # noqa: E402,F401
 import KratosMultiphysics.ContactStructuralMechanicsApplication as CSMA  # noqa: E402
 from KratosMultiphysics.ContactStructuralMechanicsApplication import alm_contact_process  # noqa: E402
+from KratosMultiphysics.ContactStructuralMechanicsApplication import mesh_tying_process  # noqa: E402
+from KratosMultiphysics.ContactStructuralMechanicsApplication import mpc_contact_process  # noqa: E402
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 SCENES_DIR = "tests/data/scenes"
@@ -99,7 +101,7 @@ WRAPPER_DEFAULTS = {
 
 # SETUP.json keys that are csm's, not Kratos' (DESIGN.md §2): applied by the harness, not passed on.
 CSM_KEYS = ("compatibility", "strict", "process_info", "nodal_h", "cpp_search_parameters", "steps",
-            "nodal_values")
+            "nodal_values", "process")
 
 NOT_MAPPED = 1.0e12  # NORMAL_GAP sentinel of the mapper ("not mapped")
 
@@ -358,6 +360,109 @@ def run_python(mesh, dim, setup):
         info["crosscheck"] += "; NODAL_H = DBL_MAX on %d nodes" % info["nodal_h_dbl_max"]
     info["crosscheck_ok"] = ok
     return result, info
+
+
+# ----------------------------------------------------------------------------------------------
+# The other contact processes: MeshTyingProcess and MPCContactProcess
+# ----------------------------------------------------------------------------------------------
+class HarnessMeshTyingProcess(mesh_tying_process.MeshTyingProcess):
+    """MeshTyingProcess whose search is the concrete class (so CheckMortarConditions exists)."""
+
+    def _create_main_search(self, key="0"):
+        params, simple = wrapper_parameters(self._create_search_parameters(key))
+        predefined = params["predefined_master_slave"].GetBool()
+        cls = concrete_class(self.main_model_part, simple, self.dimension, predefined)
+        self.concrete_class_name = cls.__name__
+        self.search_utility_list[key] = cls(self.main_model_part, params, self._get_properties_pair(key))
+
+
+# The nodal variables and degrees of freedom a mortar solver adds: the ALM ones, the vector
+# multiplier and its residual (mesh tying, MPC); the MPC conditions need DISPLACEMENT dofs.
+TYING_VARIABLES = ALM_VARIABLES + [KM.VECTOR_LAGRANGE_MULTIPLIER, CSMA.WEIGHTED_VECTOR_RESIDUAL]
+
+
+def run_other_process(mesh, dim, setup):
+    """One search step of MeshTyingProcess or MPCContactProcess (SETUP.json key `process`).
+    Mesh tying: the INDEX_MAPs as for ALM. MPC: Kratos' MPCContactSearchProcess exposes no
+    CheckMortarConditions; with MappingCheck the INDEX_MAPs are exactly the paired conditions
+    (the ALM runs check that), so the pairs are read from ComputingContact. Also counts the
+    master-slave constraints."""
+    model, mp = read_structure(mesh, TYING_VARIABLES)
+    for c in "XYZ":
+        KM.VariableUtils().AddDof(getattr(KM, "DISPLACEMENT_" + c), getattr(KM, "REACTION_" + c), mp)
+    for var, value in ((KM.DOMAIN_SIZE, dim), (KM.STEP, 1), (KM.TIME, 1.0), (KM.DELTA_TIME, 1.0)):
+        mp.ProcessInfo[var] = value
+    module = setup["process"]
+    kratos_setup = {k: v for k, v in setup.items() if k not in CSM_KEYS}
+    result = {"warnings": []}
+    info = {"class": module}
+    try:
+        if module == "mesh_tying_process":
+            process = HarnessMeshTyingProcess(model, KM.Parameters(json.dumps(kratos_setup)))
+        else:
+            process = mpc_contact_process.MPCContactProcess(model, KM.Parameters(json.dumps(kratos_setup)))
+        t0 = time.perf_counter()
+        process.ExecuteInitialize()
+        t1 = time.perf_counter()
+        process.ExecuteInitializeSolutionStep()
+        t2 = time.perf_counter()
+    except RuntimeError as e:
+        result["error"] = kratos_error(e)
+        return result, info
+    contact = mp.GetSubModelPart("Contact")
+    by_nodes = {geometry_key(c.GetGeometry()): c.Id for c in contact.Conditions}
+    paired = paired_from_computing(mp, by_nodes)
+    result["pairs"] = {}
+    slave_nodes = {}
+    for key in sorted(process.search_utility_list):
+        sub = contact.GetSubModelPart("ContactSub" + key)
+        slaves = sorted(c.Id for c in sub.Conditions if c.Is(KM.SLAVE))
+        if module == "mesh_tying_process":
+            info["class"] = process.concrete_class_name
+            with CapturedLog() as log:
+                process.search_utility_list[key].CheckMortarConditions()
+            maps = parse_index_maps(log.text)
+        else:
+            maps = {}
+            for s, m in paired:
+                maps.setdefault(s, []).append(m)
+            maps = {s: sorted(ms) for s, ms in maps.items()}
+        result["pairs"][key] = {str(s): maps.get(s, []) for s in slaves}
+        for n in sub.Nodes:
+            if n.Is(KM.SLAVE):
+                slave_nodes[n.Id] = n
+    result["nodes"] = node_values(list(slave_nodes.values()), result["warnings"])
+    result["paired_conditions"] = mp.GetSubModelPart("ComputingContact").NumberOfConditions()
+    if module == "mpc_contact_process":
+        result["master_slave_constraints"] = mp.NumberOfMasterSlaveConstraints()
+    result["timings_s"] = {"initialize": t1 - t0, "search": t2 - t1}
+    map_pairs = {(int(s), m) for ps in result["pairs"].values() for s, ms in ps.items() for m in ms}
+    ok = set(paired) == map_pairs and len(paired) == len(set(paired))
+    info["crosscheck"] = "equal" if ok else "DIFFERENT (%d maps, %d paired)" % (len(map_pairs), len(paired))
+    info["crosscheck_ok"] = ok
+    return result, info
+
+
+def other_process_setups(scene):
+    """MeshTyingProcess and MPCContactProcess on a scene with Parts_Slave/Parts_Master:
+    MappingCheck, three search types, Simple and Advanced (MPC ignores simple_search)."""
+    for module in ("mesh_tying_process", "mpc_contact_process"):
+        short = "mesh_tying" if module == "mesh_tying_process" else "mpc"
+        for ts in ("in_radius", "in_radius_with_obb", "octree_with_obb"):
+            for simple in (False, True):
+                sp = {"type_search": ts, "simple_search": simple}
+                if module == "mesh_tying_process":
+                    setup = {"model_part_name": "Structure",
+                             "mesh_tying_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
+                             "assume_master_slave": {"0": ["Parts_Slave"]},
+                             "search_parameters": sp}
+                else:
+                    setup = {"process": module, "model_part_name": "Structure",
+                             "contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
+                             "assume_master_slave": {"0": ["Parts_Slave"]},
+                             "contact_type": "Frictionless", "search_parameters": sp}
+                setup["process"] = module
+                yield "%s__%s__mapping_check__%s" % (short, ts, "simple" if simple else "advanced"), setup
 
 
 # ----------------------------------------------------------------------------------------------
@@ -643,8 +748,9 @@ def fixture(mesh, setup, result):
         obj["error"] = result["error"]
         obj["warnings"] = result["warnings"]
         return obj
-    for k in ("pairs", "nodes", "paired_conditions", "warnings"):
-        obj[k] = result[k]
+    for k in ("pairs", "nodes", "paired_conditions", "master_slave_constraints", "warnings"):
+        if k in result:
+            obj[k] = result[k]
     obj["timings_s"] = {k: round(v, 6) for k, v in result["timings_s"].items()}
     return obj
 
@@ -675,6 +781,9 @@ def main():
     for short, mdpa, dim, base in kratos_meshes():
         jobs.append(("kratos_" + short, "%s/%s" % (KRATOS_TESTS_DIR, mdpa), dim, kratos_mesh_setups(base)))
     jobs.extend(repo_kratos_meshes())
+    for scene, dim in (("stacked_blocks", 3), ("sphere_on_plate_mixed", 3), ("cylinder_on_block_2d", 2)):
+        jobs.append((scene + "_processes", "%s/%s.mdpa" % (SCENES_DIR, scene), dim,
+                     other_process_setups(scene)))
     jobs.append(("condition_ids_10_20", "%s/condition_ids_10_20.mdpa" % REPO_KRATOS_DIR, 3,
                  [("in_radius__mapping_check__advanced", {
                      "model_part_name": "Structure", "contact_type": "Frictionless",
@@ -695,6 +804,8 @@ def main():
         for name, setup in setups:
             if scene == "plane_cylinder_cpp":
                 result, info = run_cpp(mesh, name)
+            elif "process" in setup:
+                result, info = run_other_process(mesh, dim, setup)
             else:
                 result, info = run_python(mesh, dim, setup)
             if generated and "interface" in info:

@@ -206,13 +206,23 @@ fn pairs_match_kratos_on_every_fixture() {
                         fixture["paired_conditions"], ours["paired_conditions"]
                     ));
                 }
+                // MPCContactProcess: the constraints it made (absent for the others).
+                let same_constraints =
+                    fixture.get("master_slave_constraints") == ours.get("master_slave_constraints");
+                if !same_constraints {
+                    failures.push(format!(
+                        "{name}: master-slave constraints {:?} (Kratos) vs {:?} (csm)",
+                        fixture.get("master_slave_constraints"),
+                        ours.get("master_slave_constraints")
+                    ));
+                }
                 if !same_active {
                     failures.push(format!("{name}: ACTIVE flags differ"));
                 }
                 if let Some(d) = &gap_diff {
                     failures.push(format!("{name}: NORMAL_GAP differs: {d}"));
                 }
-                same_pairs && same_count && same_active && gap_diff.is_none()
+                same_pairs && same_count && same_constraints && same_active && gap_diff.is_none()
             }
             _ => {
                 let same_pairs = kp == cp;

@@ -35,7 +35,7 @@ mod stages;
 
 pub use error::{Error, ErrorKind};
 pub use setup::{
-    CheckGap, Compatibility, ContactType, NodalValueSetup, ObbIntersectionType,
+    CheckGap, Compatibility, ContactProcess, ContactType, NodalValueSetup, ObbIntersectionType,
     OctreeSearchParameters, PairSetup, PartMotion, RigidMotion, Rotation, SearchParameters,
     SearchSetup, SearchTreeType, SetupSource, StepSetup, parse_setup,
 };

@@ -9,7 +9,7 @@ mod validate;
 
 pub use parse::parse_setup;
 pub use types::{
-    CheckGap, Compatibility, ContactType, NodalValueSetup, ObbIntersectionType,
+    CheckGap, Compatibility, ContactProcess, ContactType, NodalValueSetup, ObbIntersectionType,
     OctreeSearchParameters, PairSetup, PartMotion, RigidMotion, Rotation, SearchParameters,
     SearchSetup, SearchTreeType, SetupSource, StepSetup,
 };

@@ -33,6 +33,10 @@ pub struct SearchResult {
     /// Kratos' INDEX_MAPs show the new ids. `pairs` keeps the file ids. Written to RESULT.json
     /// (`kratos_condition_ids`) only when not empty.
     pub kratos_condition_ids: BTreeMap<u32, u32>,
+    /// `MPCContactProcess`: the `ContactMasterSlaveConstraint`s created, one per paired
+    /// condition (RESULT.json `master_slave_constraints`); `None` for the processes that make
+    /// paired conditions only.
+    pub master_slave_constraints: Option<usize>,
     /// Warnings of the setup and of the run.
     pub warnings: Vec<String>,
     /// The steps of a multi-step run (SETUP.json `steps`), in order; empty for a single step.
@@ -88,6 +92,9 @@ impl SearchResult {
         out.insert("pairs".into(), Value::Object(pairs));
         out.insert("nodes".into(), Value::Object(nodes));
         out.insert("paired_conditions".into(), json!(self.paired_conditions));
+        if let Some(n) = self.master_slave_constraints {
+            out.insert("master_slave_constraints".into(), json!(n));
+        }
         if !self.kratos_condition_ids.is_empty() {
             let ids: Map<String, Value> = self
                 .kratos_condition_ids
@@ -237,6 +244,9 @@ impl serde::Serialize for ResultJson<'_> {
                 m.serialize_entry("pairs", &Pairs(&r.pairs))?;
                 m.serialize_entry("nodes", &Nodes(&r.nodes))?;
                 m.serialize_entry("paired_conditions", &r.paired_conditions)?;
+                if let Some(n) = r.master_slave_constraints {
+                    m.serialize_entry("master_slave_constraints", &n)?;
+                }
                 if !r.kratos_condition_ids.is_empty() {
                     m.serialize_entry("kratos_condition_ids", &r.kratos_condition_ids)?;
                 }
@@ -292,6 +302,7 @@ mod json_tests {
         );
         r.paired_conditions = 2;
         r.kratos_condition_ids.insert(40, 3);
+        r.master_slave_constraints = Some(2);
         r.warnings = vec!["a \"quoted\" warning".into()];
         if steps {
             r.steps = vec![

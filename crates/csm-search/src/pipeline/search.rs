@@ -29,7 +29,8 @@ use crate::plan::{
     missing_contact_sub, step_jump,
 };
 use crate::setup::{
-    CheckGap, Compatibility, SearchParameters, SearchSetup, SearchTreeType, StepSetup,
+    CheckGap, Compatibility, ContactProcess, SearchParameters, SearchSetup, SearchTreeType,
+    StepSetup,
 };
 use crate::stages::{
     ContactParts, InterfaceSettings, NormalCheckSettings, SearchInstance, assign_contact_flags,
@@ -313,7 +314,11 @@ impl ContactSearch {
         }
         // TO_ERASE is reset on every Contact condition after the clones (§4.1); csm never
         // sets it, so nothing to reset.
-        let kratos_ids = kratos_condition_ids(model, parts.contact);
+        let kratos_ids = if setup.process.renumbers_conditions() {
+            kratos_condition_ids(model, parts.contact)
+        } else {
+            BTreeMap::new()
+        };
         Ok(ContactSearch {
             setup,
             plan,
@@ -680,6 +685,10 @@ impl ContactSearch {
             result.pruned.insert(pair.key.to_string(), pruned);
             result.pairs.insert(pair.key.to_string(), slaves);
             result.paired_conditions += pair.paired.len();
+        }
+        if self.setup.process == ContactProcess::Mpc {
+            // MPCContactSearchProcess::AddPairing: one constraint per paired condition.
+            result.master_slave_constraints = Some(result.paired_conditions);
         }
         result
     }

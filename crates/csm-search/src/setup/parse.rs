@@ -5,13 +5,15 @@ use std::collections::BTreeMap;
 
 use serde_json::{Map, Value};
 
-use super::defaults::{ALM_DEFAULTS, CONTACT_MODULES, CSM_KEYS, WRAPPER_DEFAULTS};
+use super::defaults::{
+    ALM_DEFAULTS, CONTACT_MODULES, CSM_KEYS, MESH_TYING_DEFAULTS, MPC_DEFAULTS, WRAPPER_DEFAULTS,
+};
 use super::types::{
-    CheckGap, Compatibility, ContactType, NodalValueSetup, ObbIntersectionType,
+    CheckGap, Compatibility, ContactProcess, ContactType, NodalValueSetup, ObbIntersectionType,
     OctreeSearchParameters, PairSetup, PartMotion, RigidMotion, Rotation, SearchParameters,
     SearchSetup, SearchTreeType, SetupSource, StepSetup, line_of_key_path,
 };
-use super::validate::validate_and_fill;
+use super::validate::{validate_and_fill, validate_top_level_and_fill};
 use crate::error::{Error, ErrorKind};
 
 /// The 1-based line of the first occurrence of `"key"` in `text` (the last segment of a
@@ -319,6 +321,32 @@ fn parse_inner(text: &str) -> Result<SearchSetup, Error> {
         }
     }
     let explicit = module == "explicit_penalty_contact_process";
+    // The process: the ProjectParameters' module, csm's `process` key, or for a bare
+    // `Parameters` object the keys it has (`mesh_tying_model_part` is the mesh tying's own).
+    let process = match csm.get("process") {
+        Some(Value::String(m)) => ContactProcess::of_module(m).ok_or_else(|| {
+            invalid(
+                "process",
+                "a contact process module: \"alm_contact_process\", \"penalty_contact_process\", \
+                 \"explicit_penalty_contact_process\", \"mpc_contact_process\" or \
+                 \"mesh_tying_process\"",
+                &Value::String(m.clone()),
+            )
+        })?,
+        Some(v) => return Err(invalid("process", "a module name (string)", v)),
+        None if project => ContactProcess::of_module(module).unwrap_or(ContactProcess::Alm),
+        None if params.contains_key("mesh_tying_model_part") => ContactProcess::MeshTying,
+        None => ContactProcess::Alm,
+    };
+    let explicit = explicit
+        || csm.get("process").and_then(Value::as_str) == Some("explicit_penalty_contact_process");
+    // MPC and mesh tying: validated against their own defaults as Kratos does, then read as
+    // the ALM parameters they share the search keys with.
+    match process {
+        ContactProcess::Mpc => params = mpc_as_alm(params)?,
+        ContactProcess::MeshTying => params = mesh_tying_as_alm(params)?,
+        ContactProcess::Alm => {}
+    }
 
     // csm's own keys.
     let csm_reader = Reader {
@@ -524,6 +552,14 @@ fn parse_inner(text: &str) -> Result<SearchSetup, Error> {
         );
     }
     cx.pair = None;
+    // MPCContactSearchProcess is the base search class: the wrapper drops `simple_search`,
+    // and the base activation is the Simple one (without the multiplier guesses, which
+    // change no pair, flag or gap).
+    if process == ContactProcess::Mpc {
+        for pair in pairs.values_mut() {
+            pair.search.simple_search = true;
+        }
+    }
     if pairs.is_empty() {
         return Err(ErrorKind::NotImplemented(
             "every `contact_model_part` list is empty: Kratos would detect the skin of the \
@@ -546,6 +582,7 @@ fn parse_inner(text: &str) -> Result<SearchSetup, Error> {
         consider_tessellation: top.bool("consider_tessellation")?,
         interval,
         explicit,
+        process,
         compatibility,
         strict,
         process_info,
@@ -557,6 +594,67 @@ fn parse_inner(text: &str) -> Result<SearchSetup, Error> {
         warnings: cx.warnings,
         source: None,
     })
+}
+
+/// The keys `SearchBaseProcess` takes from a contact process (`base_process_settings`), besides
+/// the part lists and property ids.
+const BASE_KEYS: [&str; 7] = [
+    "model_part_name",
+    "assume_master_slave",
+    "interval",
+    "zero_tolerance_factor",
+    "integration_order",
+    "consider_tessellation",
+    "normal_check_proportion",
+];
+
+/// `MPCContactProcess`' parameters: validated recursively against its defaults (unknown keys
+/// rejected as Kratos does), then the keys the search reads, as ALM parameters. Its
+/// `contact_type` `"MeshTying"` (mesh tying through constraints) searches as frictionless.
+fn mpc_as_alm(mut params: Map<String, Value>) -> Result<Map<String, Value>, Error> {
+    validate_and_fill(&mut params, &defaults(MPC_DEFAULTS), "")?;
+    let mut alm = Map::new();
+    for key in BASE_KEYS.iter().chain(&[
+        "contact_model_part",
+        "contact_property_ids",
+        "search_parameters",
+    ]) {
+        if let Some(v) = params.remove(*key) {
+            alm.insert((*key).to_owned(), v);
+        }
+    }
+    let contact_type = match params.remove("contact_type") {
+        Some(Value::String(t)) if t == "MeshTying" => Value::String("Frictionless".to_owned()),
+        Some(v) => v,
+        None => Value::String("Frictionless".to_owned()),
+    };
+    alm.insert("contact_type".to_owned(), contact_type);
+    Ok(alm)
+}
+
+/// `MeshTyingProcess`' parameters: validated against its defaults without recursion, as
+/// Kratos does (a `search_parameters` object the user gives is kept whole; the ALM
+/// validation then completes it with the base defaults), then read as ALM parameters:
+/// `mesh_tying_model_part` and `mesh_tying_property_ids` are the part lists and property ids.
+fn mesh_tying_as_alm(mut params: Map<String, Value>) -> Result<Map<String, Value>, Error> {
+    validate_top_level_and_fill(&mut params, &defaults(MESH_TYING_DEFAULTS))?;
+    let mut alm = Map::new();
+    for key in BASE_KEYS.iter().chain(&["search_parameters"]) {
+        if let Some(v) = params.remove(*key) {
+            alm.insert((*key).to_owned(), v);
+        }
+    }
+    if let Some(v) = params.remove("mesh_tying_model_part") {
+        alm.insert("contact_model_part".to_owned(), v);
+    }
+    if let Some(v) = params.remove("mesh_tying_property_ids") {
+        alm.insert("contact_property_ids".to_owned(), v);
+    }
+    alm.insert(
+        "contact_type".to_owned(),
+        Value::String("Frictionless".to_owned()),
+    );
+    Ok(alm)
 }
 
 /// The C++ wrapper's parameters, used verbatim (wrapper defaults already filled).

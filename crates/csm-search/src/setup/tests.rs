@@ -371,3 +371,55 @@ fn bad_steps_name_the_entry_and_its_line() {
     ));
     assert!(e.to_string().contains("`nodal_values[0].variable`"), "{e}");
 }
+
+#[test]
+fn mpc_parameters_search_with_the_base_class() {
+    let project = r#"{ "processes": { "contact_process_list": [{
+        "python_module": "mpc_contact_process",
+        "Parameters": { "contact_model_part": {"0": ["S", "M"]},
+                        "assume_master_slave": {"0": ["S"]},
+                        "contact_type": "MeshTying",
+                        "update_condition_relation_step": true,
+                        "search_parameters": {"simple_search": false} } }] } }"#;
+    let s = parse(project);
+    assert_eq!(s.process, ContactProcess::Mpc);
+    // MPC's own default, not ALM's 1.0; and the wrapper drops simple_search.
+    assert_eq!(s.zero_tolerance_factor, 100.0);
+    assert!(s.pairs[&0].search.simple_search);
+    assert!(s.process.renumbers_conditions());
+    // The same Parameters as a bare object need csm's `process` key; ALM rejects MPC's keys.
+    let bare = r#"{ "contact_model_part": {"0": ["S", "M"]}, "assume_master_slave": {"0": ["S"]},
+                    "update_condition_relation_step": true }"#;
+    assert!(matches!(
+        parse_err(bare).kind(),
+        ErrorKind::UnknownKey { .. }
+    ));
+    let with_key = bare.replacen('{', r#"{ "process": "mpc_contact_process","#, 1);
+    assert_eq!(parse(&with_key).process, ContactProcess::Mpc);
+    let e = parse_err(&bare.replacen('{', r#"{ "process": "mpc","#, 1));
+    assert!(e.to_string().contains("mesh_tying_process"), "{e}");
+}
+
+#[test]
+fn mesh_tying_parameters_keep_kratos_defaults_and_ids() {
+    let s = parse(
+        r#"{ "mesh_tying_model_part": {"0": ["S", "M"]}, "assume_master_slave": {"0": ["S"]} }"#,
+    );
+    assert_eq!(s.process, ContactProcess::MeshTying);
+    assert!(!s.process.renumbers_conditions());
+    assert_eq!(s.pairs[&0].parts, ["S", "M"]);
+    // Its own search_parameters default: one search only.
+    assert_eq!(s.database_step_update, 999_999_999);
+    assert!(s.consider_tessellation);
+    // A search_parameters object the user gives is completed by the base defaults (not
+    // validated against the mesh tying's, whose keys it lacks).
+    let s = parse(
+        r#"{ "mesh_tying_model_part": {"0": ["S", "M"]}, "assume_master_slave": {"0": ["S"]},
+             "search_parameters": {"simple_search": true} }"#,
+    );
+    assert_eq!(s.database_step_update, 1);
+    assert!(s.pairs[&0].search.simple_search);
+    let e =
+        parse_err(r#"{ "mesh_tying_model_part": {"0": ["S"]}, "contact_type": "Frictionless" }"#);
+    assert!(matches!(e.kind(), ErrorKind::UnknownKey { .. }), "{e}");
+}

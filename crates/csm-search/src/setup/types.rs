@@ -126,6 +126,42 @@ impl ContactType {
     }
 }
 
+/// The Kratos contact process whose `Parameters` the setup holds: what it passes to the
+/// search and what the search makes of the pairs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ContactProcess {
+    /// `ALMContactProcess` (`alm_contact_process`), and `PenaltyContactProcess` and
+    /// `ExplicitPenaltyContactProcess`, which derive from it: paired conditions.
+    Alm,
+    /// `MPCContactProcess` (`mpc_contact_process`): Kratos' `MPCContactSearchProcess`, the
+    /// base search class (the base activation whatever `simple_search`, no pair
+    /// properties), one `ContactMasterSlaveConstraint` per paired condition.
+    Mpc,
+    /// `MeshTyingProcess` (`mesh_tying_process`): parts in `mesh_tying_model_part`, paired
+    /// `MeshTyingMortar` conditions; unlike the contact processes it keeps the condition ids.
+    MeshTying,
+}
+
+impl ContactProcess {
+    /// The process of a `python_module` name.
+    pub fn of_module(module: &str) -> Option<ContactProcess> {
+        match module {
+            "alm_contact_process"
+            | "penalty_contact_process"
+            | "explicit_penalty_contact_process" => Some(ContactProcess::Alm),
+            "mpc_contact_process" => Some(ContactProcess::Mpc),
+            "mesh_tying_process" => Some(ContactProcess::MeshTying),
+            _ => None,
+        }
+    }
+
+    /// True when the process numbers every condition of the model 1..N in id order during
+    /// its initialisation (`ALMFastInit`: the ALM, penalty and MPC processes).
+    pub fn renumbers_conditions(self) -> bool {
+        !matches!(self, ContactProcess::MeshTying)
+    }
+}
+
 /// `octree_search_parameters`: the OBB and octree configuration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OctreeSearchParameters {
@@ -226,6 +262,8 @@ pub struct SearchSetup {
     pub interval: (f64, f64),
     /// True when the setup came from an explicit penalty process (default `octree_with_obb`).
     pub explicit: bool,
+    /// The contact process the setup is for.
+    pub process: ContactProcess,
     /// `"compatibility"`.
     pub compatibility: Compatibility,
     /// `"strict"`: silent fallbacks become errors.

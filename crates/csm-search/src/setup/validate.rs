@@ -21,6 +21,31 @@ fn same_type(a: &Value, b: &Value) -> bool {
     std::mem::discriminant(a) == std::mem::discriminant(b)
 }
 
+/// Kratos' `ValidateAndAssignDefaults` (no recursion): the top-level keys of `given` are
+/// checked and completed; the values of object keys the user gave are kept as they are.
+pub(crate) fn validate_top_level_and_fill(
+    given: &mut Map<String, Value>,
+    defaults: &Map<String, Value>,
+) -> Result<(), Error> {
+    for (key, value) in given.iter() {
+        let Some(default) = defaults.get(key) else {
+            return Err(ErrorKind::UnknownKey { key: key.clone() }.into());
+        };
+        if !same_type(value, default) {
+            return Err(ErrorKind::InvalidValue {
+                key: key.clone(),
+                expected: type_name(default).to_owned(),
+                found: format!("{} ({value})", type_name(value)),
+            }
+            .into());
+        }
+    }
+    for (key, default) in defaults {
+        given.entry(key.clone()).or_insert_with(|| default.clone());
+    }
+    Ok(())
+}
+
 /// Validates `given` against `defaults` and fills the missing keys, recursively. `path` is
 /// the dotted prefix used in errors.
 pub(crate) fn validate_and_fill(
