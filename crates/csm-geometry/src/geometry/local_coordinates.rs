@@ -78,6 +78,7 @@ impl Geometry<'_> {
                 let xi = 2.0 * dot_kratos(&(p - pts[0]), &d) / l2 - 1.0;
                 finite(Point::new(xi, 0.0, 0.0))
             }
+            GeometryKind::Triangle3D3 => self.point_local_coordinates_kratos_triangle(p),
             GeometryKind::Quadrilateral3D4 => {
                 let newton = self.point_local_coordinates_kratos_quadrilateral(p)?;
                 match newton.outcome {
@@ -89,6 +90,48 @@ impl Geometry<'_> {
             }
             _ => self.point_local_coordinates_least_squares_absolute(p),
         }
+    }
+
+    /// Kratos' `Triangle3D3::PointLocalCoordinates`, operation for operation: the point and the
+    /// nodes are mapped about the centre `c` by the rows `t_ξ = (x1 − x0)/|x1 − x0|`,
+    /// `t_η = (x2 − x0)/|x2 − x0|` (not orthogonal: an affine image of the plane, which leaves
+    /// the local coordinates unchanged), then ξ, η come from the 2×2 closed form relative to
+    /// node 0. A node gives exactly its reference coordinates, so a node shared by two faces is
+    /// inside both with Kratos' tolerance ε, as in Kratos (DirectCheck on a self-contact
+    /// surface activates the nodes a slave shares with its neighbours); the generic
+    /// least-squares iteration is off by a few ulps there.
+    fn point_local_coordinates_kratos_triangle(&self, p: &Point) -> Result<Point, Error> {
+        let pts = self.points();
+        let unit = |v: Vector| -> Result<Vector, Error> {
+            let n = v.norm();
+            if n.is_nan() || n <= DEGENERATE_REL * self.scale() {
+                return Err(Error::degenerate("zero-length triangle edge"));
+            }
+            Ok(v / n)
+        };
+        let t_xi = unit(pts[1] - pts[0])?;
+        let t_eta = unit(pts[2] - pts[0])?;
+        let c = Point::from((pts[0].coords + pts[1].coords + pts[2].coords) / 3.0);
+        let map = |q: &Point| -> (Real, Real) {
+            let a = q - c;
+            (
+                t_xi.x * a.x + t_xi.y * a.y + t_xi.z * a.z + c.x,
+                t_eta.x * a.x + t_eta.y * a.y + t_eta.z * a.z + c.y,
+            )
+        };
+        let (dx, dy) = map(p);
+        let r = [map(&pts[0]), map(&pts[1]), map(&pts[2])];
+        let j00 = r[1].0 - r[0].0;
+        let j01 = r[2].0 - r[0].0;
+        let j10 = r[1].1 - r[0].1;
+        let j11 = r[2].1 - r[0].1;
+        let det = j00 * j11 - j01 * j10;
+        if det.is_nan() || det.abs() <= DEGENERATE_REL * DEGENERATE_REL * self.scale().powi(2) {
+            return Err(Error::degenerate("zero-area triangle"));
+        }
+        let eta = (j10 * (r[0].0 - dx) + j00 * (dy - r[0].1)) / det;
+        let xi = (j11 * (dx - r[0].0) + j01 * (r[0].1 - dy)) / det;
+        finite(Point::new(xi, eta, 0.0))
     }
 
     /// Generic Gauss–Newton on `x(ξ) = p` starting at the reference centre
@@ -217,7 +260,7 @@ impl<'a> LocalCoordinatesSolver<'a> {
             GeometryKind::Quadrilateral3D4 => {
                 SolverStart::Quadrilateral(geometry.kratos_quadrilateral_start(), None)
             }
-            GeometryKind::Triangle3D3 | GeometryKind::Triangle2D3 | GeometryKind::Tetrahedra3D4 => {
+            GeometryKind::Triangle2D3 | GeometryKind::Tetrahedra3D4 => {
                 let xi = geometry.reference_center();
                 let (j, inv) = geometry.least_squares_step_matrices(&xi);
                 SolverStart::Affine(j, inv.ok())

@@ -22,9 +22,13 @@ fn conditions_in_order(model: &ModelPart, sub: PartIdx) -> Vec<ConditionIdx> {
 }
 
 /// The boundary entities of a condition as sorted node-id lists, in Kratos'
-/// `GenerateBoundariesEntities` order: the edges of a face ((0,1),(1,2),(2,0) or
-/// (0,1),(1,2),(2,3),(3,0)), the two end points of a line.
+/// `GenerateBoundariesEntities` order: a triangle's edges (1,2),(2,0),(0,1) (each opposite
+/// its node, as Kratos' `GenerateEdges`; the reference's (0,1),(1,2),(2,0) gives another walk
+/// and, on Kratos' self-contact mesh, other roles), a quadrilateral's (0,1),(1,2),(2,3),(3,0),
+/// a line's two end points. Quadratic faces by their corners (their mid nodes come with them).
 fn boundaries(model: &ModelPart, c: ConditionIdx) -> Vec<Vec<u32>> {
+    const TRIANGLE: [[usize; 2]; 3] = [[1, 2], [2, 0], [0, 1]];
+    const QUADRILATERAL: [[usize; 2]; 4] = [[0, 1], [1, 2], [2, 3], [3, 0]];
     let conditions = model.conditions();
     let kind = conditions.kind(c.index());
     let node_ids = model.nodes().ids();
@@ -33,7 +37,12 @@ fn boundaries(model: &ModelPart, c: ConditionIdx) -> Vec<Vec<u32>> {
     if kind.local_dim() == 1 {
         return vec![vec![id(0)], vec![id(1)]];
     }
-    kind.edges()
+    let edges: &[[usize; 2]] = if kind.edges().len() == 3 {
+        &TRIANGLE
+    } else {
+        &QUADRILATERAL
+    };
+    edges
         .iter()
         .map(|&[a, b]| {
             let (a, b) = (id(a), id(b));

@@ -54,17 +54,20 @@ fn full_assignment(mp: &mut ModelPart, part: PartIdx) {
 }
 
 /// (SLAVE, MASTER, ACTIVE) of condition `id`, undefined as false.
-fn roles(mp: &ModelPart, id: u32) -> (bool, bool, bool) {
+fn roles(mp: &ModelPart, id: u32) -> Roles {
     let i = mp.conditions().index_of(id).unwrap();
     let f = mp.conditions().flags()[i];
     (f.is(Flag::SLAVE), f.is(Flag::MASTER), f.is(Flag::ACTIVE))
 }
 
-const ACTIVE_SLAVE: (bool, bool, bool) = (true, false, true);
-const ACTIVE_MASTER: (bool, bool, bool) = (false, true, true);
-const INACTIVE_MASTER: (bool, bool, bool) = (false, true, false);
+/// (SLAVE, MASTER, ACTIVE).
+type Roles = (bool, bool, bool);
 
-fn check(mp: &ModelPart, expected: &[(&[u32], (bool, bool, bool))]) {
+const ACTIVE_SLAVE: Roles = (true, false, true);
+const ACTIVE_MASTER: Roles = (false, true, true);
+const INACTIVE_MASTER: Roles = (false, true, false);
+
+fn check(mp: &ModelPart, expected: &[(&[u32], Roles)]) {
     for (ids, role) in expected {
         for &id in *ids {
             assert_eq!(roles(mp, id), *role, "condition {id}");
@@ -192,8 +195,8 @@ fn not_predefined_flags_both_sides_of_the_maps() {
     let c1 = c(&mp, 1);
     mp.index_map_mut(c1).add_id(ConditionId(2));
     not_predefined_master_slave(&mut mp, part);
-    assert_eq!(roles(&mp, 1).0, true);
-    assert_eq!(roles(&mp, 2).1, true);
+    assert!(roles(&mp, 1).0);
+    assert!(roles(&mp, 2).1);
     // Condition 3 has no map and is no one's master: no flag set.
     let f3 = mp.conditions().flags()[c(&mp, 3).index()];
     assert!(!f3.is_defined(Flag::SLAVE) && !f3.is_defined(Flag::MASTER));
