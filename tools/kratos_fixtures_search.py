@@ -52,6 +52,21 @@ of Contact/ContactSub0 after ExecuteInitialize (id, nodes in order, SLAVE/MASTER
 checked to be the same in every run of the mesh; where ExecuteInitialize raised, those generated
 before it, with the error.
 
+The seed's other processes and options (issue 26):
+* roles decided automatically (`assume_master_slave` absent): Kratos test meshes kept in
+  tests/data/kratos/ (SOURCES.md there) — the simplest patch (`kratos_simplest_patch`, and with
+  every node listed, `kratos_simplest_patch_all_nodes`), the 2D hertz mesh (`kratos_hertz`), the
+  self-contact mesh as shipped (`kratos_self_contact`: Kratos raises) and with node-only contact
+  parts (`kratos_self_contact_nodes_only`, two pairs) — and the generated self-contact scene
+  `kratos_folded_strip`; `stacked_blocks/auto_roles__…` (Kratos raises). With roles not
+  predefined the wrapper takes the first condition's node count for both sides.
+* skin detection (`skin_detection`: every contact_model_part list empty; Kratos raises);
+* MeshTyingProcess and MPCContactProcess (`<scene>_processes`, SETUP.json key `process`: the
+  module); MPC's pairs are read from ComputingContact (its search has no CheckMortarConditions;
+  with MappingCheck the maps are exactly the paired conditions), with the constraint count;
+* condition ids 10 and 20 (`condition_ids_10_20`): Kratos' renumbered ids in `pairs`.
+Several pair keys are written under their keys.
+
 Also writes tests/fixtures/search/README.md (scene sizes, summary table, total Kratos time).
 
 Usage (repository root): OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive python tools/kratos_fixtures_search.py
@@ -248,6 +263,11 @@ class HarnessALMContactProcess(alm_contact_process.ALMContactProcess):
     """ALMContactProcess whose search is the concrete class (so CheckMortarConditions exists)."""
 
     def _create_main_search(self, key="0"):
+        if self.main_model_part.GetSubModelPart("Contact").NumberOfConditions() == 0:
+            # Nothing to choose a class from (skin detection loses the skin): Kratos' own
+            # wrapper, which raises as Kratos does.
+            self.concrete_class_name = "ContactSearchProcess"
+            return super()._create_main_search(key)
         params, simple = wrapper_parameters(self._create_search_parameters(key))
         predefined = params["predefined_master_slave"].GetBool()
         cls = concrete_class(self.main_model_part, simple, self.dimension, predefined)
@@ -446,6 +466,7 @@ def run_other_process(mesh, dim, setup):
 def other_process_setups(scene):
     """MeshTyingProcess and MPCContactProcess on a scene with Parts_Slave/Parts_Master:
     MappingCheck, three search types, Simple and Advanced (MPC ignores simple_search)."""
+    # (The scene name has the suffix "_processes" in the job list.)
     for module in ("mesh_tying_process", "mpc_contact_process"):
         short = "mesh_tying" if module == "mesh_tying_process" else "mpc"
         for ts in ("in_radius", "in_radius_with_obb", "octree_with_obb"):
@@ -456,6 +477,11 @@ def other_process_setups(scene):
                              "mesh_tying_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
                              "assume_master_slave": {"0": ["Parts_Slave"]},
                              "search_parameters": sp}
+                    if scene == "sphere_on_plate_mixed":
+                        # Triangles against quadrilaterals: the mesh tying's default
+                        # consider_tessellation (true) makes Kratos triangulate the overlaps by
+                        # Delaunay, which csm does not reproduce (docs/conformance.md).
+                        setup["consider_tessellation"] = False
                 else:
                     setup = {"process": module, "model_part_name": "Structure",
                              "contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
@@ -648,8 +674,22 @@ def repo_kratos_meshes():
          list(kratos_mesh_setups(AUTO_BASE, "auto_roles__"))),
         ("kratos_hertz", "%s/hertz_simple_test.mdpa" % REPO_KRATOS_DIR, 2,
          list(kratos_mesh_setups(AUTO_BASE, "auto_roles__"))),
+        # Its contact parts list conditions, which get no role: Kratos raises.
         ("kratos_self_contact", "%s/self_contact_test.mdpa" % REPO_KRATOS_DIR, 3,
+         list(kratos_mesh_setups(self_contact_base(), "auto_roles__"))[4:5]),
+        # The same mesh with node-only contact parts: Kratos generates the faces (all MASTER)
+        # and the self-contact pairing decides the roles of each of the two pairs.
+        ("kratos_self_contact_nodes_only", "%s/self_contact_nodes_only.mdpa" % REPO_KRATOS_DIR, 3,
          list(kratos_mesh_setups(self_contact_base(), "auto_roles__"))),
+        # Every node listed: the faces Kratos generates are the skin csm's robust skin detection
+        # finds (tests/it/seed_features.rs compares the two).
+        ("kratos_simplest_patch_all_nodes", "%s/simplest_patch_all_nodes.mdpa" % REPO_KRATOS_DIR, 3,
+         list(kratos_mesh_setups(dict(AUTO_BASE, contact_model_part={"0": ["All_Nodes"]}),
+                                 "auto_roles__"))),
+        # A generated self-contact scene: one C-shaped body whose arms face each other.
+        ("kratos_folded_strip", "%s/folded_strip.mdpa" % SCENES_DIR, 3,
+         list(kratos_mesh_setups(dict(AUTO_BASE, contact_model_part={"0": ["Contact_Fold"]}),
+                                 "auto_roles__"))),
     ]
 
 
@@ -757,6 +797,8 @@ def fixture(mesh, setup, result):
 
 def count_faces(mesh):
     model, mp = read_structure(mesh, [KM.DISPLACEMENT])
+    if not mp.HasSubModelPart("Parts_Slave"):
+        return (None, None, mp.NumberOfNodes(), mp.NumberOfElements())
     return (mp.GetSubModelPart("Parts_Slave").NumberOfConditions(),
             mp.GetSubModelPart("Parts_Master").NumberOfConditions(),
             mp.NumberOfNodes(), mp.NumberOfElements())
@@ -784,6 +826,12 @@ def main():
     for scene, dim in (("stacked_blocks", 3), ("sphere_on_plate_mixed", 3), ("cylinder_on_block_2d", 2)):
         jobs.append((scene + "_processes", "%s/%s.mdpa" % (SCENES_DIR, scene), dim,
                      other_process_setups(scene)))
+    # Every contact_model_part list empty: Kratos detects the skin into Structure.ContactSub0,
+    # not Contact.ContactSub0, and raises (csm's kratos mode too; robust mode searches the skin).
+    jobs.append(("skin_detection", "%s/3D_contact_simplest_patch_matching_test.mdpa" % REPO_KRATOS_DIR, 3,
+                 [("skin__in_radius__mapping_check__advanced", {
+                     "model_part_name": "Structure", "contact_type": "Frictionless",
+                     "search_parameters": {"type_search": "in_radius"}})]))
     jobs.append(("condition_ids_10_20", "%s/condition_ids_10_20.mdpa" % REPO_KRATOS_DIR, 3,
                  [("in_radius__mapping_check__advanced", {
                      "model_part_name": "Structure", "contact_type": "Frictionless",
@@ -900,6 +948,16 @@ def write_readme(out, sizes, rows, total):
               "generated exactly the same list: all of them) and `error` where ExecuteInitialize raised. "
               "Properties without YOUNG_MODULUS make ALMVariablesCalculationProcess warn (it uses 0; the "
               "search does not use it)."]
+    lines += ["", "## The seed's other processes and options", "",
+              "`kratos_simplest_patch`, `kratos_simplest_patch_all_nodes`, `kratos_hertz`, "
+              "`kratos_self_contact`, `kratos_self_contact_nodes_only`, `kratos_folded_strip` and "
+              "`stacked_blocks/auto_roles__*`: roles decided automatically (`assume_master_slave` "
+              "absent; Kratos raises where the contact parts have conditions of their own). "
+              "`skin_detection`: every contact_model_part list empty (Kratos 10.4.4 raises). "
+              "`*_processes`: MeshTyingProcess (`mesh_tying__*`) and MPCContactProcess (`mpc__*`, "
+              "with `master_slave_constraints`). `condition_ids_10_20`: contact conditions 10 and "
+              "20, which Kratos renumbers 1 and 2 (`pairs` holds Kratos' ids). Meshes: "
+              "`tests/data/kratos/` (SOURCES.md there) and `tests/data/scenes/folded_strip.mdpa`."]
     lines += ["", "Total Kratos time (all runs, including reading and initialisation): %.1f s "
               "(timings vary from run to run; everything else is reproducible)." % total, "",
               "plane_cylinder_cpp calibration (reference §20.1): every INDEX_MAP as in the C++ test, only "

@@ -10,6 +10,7 @@ mod kratos_conformance;
 mod kratos_search;
 mod kratos_steps;
 mod robust_snapshots;
+mod seed_features;
 mod stability;
 
 use std::path::PathBuf;
@@ -60,12 +61,38 @@ pub const RESULT_KEYS: [&str; 6] = [
     "timings_s",
 ];
 
-/// The top-level keys of RESULT.json `v`, in order.
+/// The keys RESULT.json has only where they apply (DESIGN.md §3), after `paired_conditions`
+/// in this order: the constraints of an MPC process, the ids Kratos gives conditions whose
+/// file ids are not 1..N.
+pub const OPTIONAL_RESULT_KEYS: [&str; 2] = ["master_slave_constraints", "kratos_condition_ids"];
+
+/// The top-level keys of RESULT.json `v`, in order, without the optional ones (which must
+/// stand right after `paired_conditions`, in their order).
 pub fn result_keys(v: &serde_json::Value) -> Vec<&str> {
-    v.as_object()
+    let all: Vec<&str> = v
+        .as_object()
         .expect("RESULT.json is an object")
         .keys()
         .map(String::as_str)
+        .collect();
+    let optional: Vec<&str> = all
+        .iter()
+        .copied()
+        .filter(|k| OPTIONAL_RESULT_KEYS.contains(k))
+        .collect();
+    if let Some(first) = optional.first() {
+        let at = all.iter().position(|k| k == first).unwrap();
+        assert_eq!(all[at - 1], "paired_conditions", "{all:?}");
+        assert_eq!(&all[at..at + optional.len()], &optional[..], "{all:?}");
+        let order: Vec<&str> = OPTIONAL_RESULT_KEYS
+            .iter()
+            .copied()
+            .filter(|k| optional.contains(k))
+            .collect();
+        assert_eq!(optional, order, "{all:?}");
+    }
+    all.into_iter()
+        .filter(|k| !OPTIONAL_RESULT_KEYS.contains(k))
         .collect()
 }
 

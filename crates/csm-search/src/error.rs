@@ -38,8 +38,6 @@ pub enum ErrorKind {
     RejectedByKratos(String),
     /// A silent fallback of Kratos that `"strict": true` turns into an error.
     Strict(String),
-    /// A valid setup that asks for something csm does not do yet; the message says what.
-    NotImplemented(String),
     /// A geometric computation on a condition failed (degenerate face, …).
     Geometry {
         /// External id of the condition.
@@ -118,7 +116,6 @@ impl fmt::Display for Error {
             ),
             ErrorKind::RejectedByKratos(msg) => write!(f, "{msg}"),
             ErrorKind::Strict(msg) => write!(f, "{msg} (an error because \"strict\": true)"),
-            ErrorKind::NotImplemented(msg) => write!(f, "not implemented yet: {msg}"),
             ErrorKind::Geometry { condition, message } => {
                 write!(f, "condition {condition}: {message}")
             }

@@ -6,9 +6,11 @@ mod dispatch;
 mod interface_preprocess;
 mod master_slave;
 mod normal_check;
+mod skin;
 
 pub use contact_parts::*;
 pub use dispatch::*;
 pub use interface_preprocess::*;
 pub use master_slave::*;
 pub use normal_check::*;
+pub use skin::*;

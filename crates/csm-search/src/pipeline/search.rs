@@ -33,9 +33,10 @@ use crate::setup::{
     StepSetup,
 };
 use crate::stages::{
-    ContactParts, InterfaceSettings, NormalCheckSettings, SearchInstance, assign_contact_flags,
-    dispatch, generate_interface_conditions, master_slave_from_nodes,
-    normal_check_normals_only_with_normals, normal_check_with_normals, transfer_to_contact,
+    ContactParts, InterfaceSettings, NormalCheckSettings, SKIN_PART, SearchInstance,
+    assign_contact_flags, detect_skin, dispatch, generate_interface_conditions,
+    master_slave_from_nodes, normal_check_normals_only_with_normals, normal_check_with_normals,
+    transfer_to_contact,
 };
 
 /// The search of one pair key (one Kratos search process).
@@ -120,6 +121,30 @@ impl ContactSearch {
         model: &mut ModelPart,
         setup: &SearchSetup,
     ) -> Result<ContactSearch, Error> {
+        // No contact part named: the skin of the mesh (robust mode; Kratos 10.4.4 loses it).
+        let with_skin;
+        let setup = if setup.skin && model.find_part("Contact").is_none() {
+            if setup.compatibility == Compatibility::Kratos {
+                return Err(ErrorKind::RejectedByKratos(
+                    "every `contact_model_part` list is empty, so Kratos detects the skin, but \
+                     into `Structure.ContactSub0` instead of `Contact.ContactSub0`: its search \
+                     finds no contact condition (\"mPointListDestination not initialized\"). \
+                     Name the contact parts, or use \"compatibility\": \"robust\", which \
+                     searches the skin"
+                        .to_owned(),
+                )
+                .into());
+            }
+            let report = detect_skin(model)?;
+            let mut s = setup.clone();
+            if let Some(pair) = s.pairs.get_mut(&0) {
+                pair.parts = vec![model.part(report.part).path().to_owned()];
+            }
+            with_skin = s;
+            &with_skin
+        } else {
+            setup
+        };
         // What runs; every decision below that the plan makes is taken from it.
         let plan = Plan::decide(model, setup)?;
         crate::trace::start();
@@ -134,6 +159,9 @@ impl ContactSearch {
             Some(contact) => existing_contact_parts(model, contact, &setup)?,
             None => {
                 let mut parts = assign_contact_flags(model, &setup)?;
+                if setup.skin {
+                    skin_roles(model, &setup);
+                }
                 // Stage 1 for every user part (Kratos calls GenerateInterfacePart on each: it only
                 // checks the properties when the part has conditions, else generates them). On
                 // the C++ path (no Python layer) only parts that list nodes only get conditions,
@@ -691,6 +719,34 @@ impl ContactSearch {
             result.master_slave_constraints = Some(result.paired_conditions);
         }
         result
+    }
+}
+
+/// Robust skin detection with predefined roles: the skin conditions are all MASTER after the
+/// flags of stage 0 (the skin part is the listed part); those whose nodes are all SLAVE (in
+/// the `assume_master_slave` parts) become SLAVE, as stage 1 decides for the conditions it
+/// generates.
+fn skin_roles(model: &mut ModelPart, setup: &SearchSetup) {
+    let Some(pair) = setup.pairs.get(&0) else {
+        return;
+    };
+    if pair.slaves.is_empty() {
+        return;
+    }
+    let Some(part) = model.find_part(SKIN_PART) else {
+        return;
+    };
+    for c in model.part(part).conditions().to_vec() {
+        let slave = model
+            .conditions()
+            .nodes(c.index())
+            .iter()
+            .all(|n| model.nodes().flags()[n.index()].is(Flag::SLAVE));
+        if slave {
+            let f = &mut model.conditions_mut().flags_mut()[c.index()];
+            f.set(Flag::SLAVE, true);
+            f.set(Flag::MASTER, false);
+        }
     }
 }
 

@@ -296,8 +296,16 @@ fn variable_item(v: &VariablePlan) -> Item {
 }
 
 fn pair_header(p: &PairPlan) -> String {
+    let listed = if p.master_parts.is_empty() {
+        // No part named: skin detection (robust mode; kratos mode refuses, as Kratos loses it).
+        "the skin of the mesh (every `contact_model_part` list empty)".to_owned()
+    } else {
+        format!("parts {}", quoted(&p.master_parts))
+    };
     let parts = if p.slave_parts.is_empty() {
-        format!("parts {} (roles not predefined)", quoted(&p.master_parts))
+        format!("{listed} (roles decided by the self-contact pre-search)")
+    } else if p.master_parts.is_empty() {
+        format!("slave {}, master {listed}", quoted(&p.slave_parts))
     } else {
         format!(
             "slave {}, master {}",

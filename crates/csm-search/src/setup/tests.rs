@@ -232,11 +232,11 @@ fn csm_keys() {
     assert!(e.to_string().contains("positive"), "{e}");
     let e = parse_err(&with("{}", r#", "steps": []"#));
     assert!(e.to_string().contains("a non-empty list of steps"), "{e}");
-    let e = parse_err(r#"{"contact_model_part": {"0": []}}"#);
-    assert!(
-        matches!(e.kind(), ErrorKind::NotImplemented(_)),
-        "skin detection"
-    );
+    // Every list empty: skin detection (pair 0, no part named yet).
+    let s = parse(r#"{"contact_model_part": {"0": []}, "assume_master_slave": {"0": ["S"]}}"#);
+    assert!(s.skin);
+    assert!(s.pairs[&0].parts.is_empty() && s.pairs[&0].slaves == ["S"]);
+    assert!(!parse(&with("{}", "")).skin);
 }
 
 #[test]

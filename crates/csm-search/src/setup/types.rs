@@ -264,6 +264,9 @@ pub struct SearchSetup {
     pub explicit: bool,
     /// The contact process the setup is for.
     pub process: ContactProcess,
+    /// Every `contact_model_part` list is empty: the contact faces are the skin of the mesh
+    /// (pair 0, whose `parts` is empty until the skin part is made; `stages::detect_skin`).
+    pub skin: bool,
     /// `"compatibility"`.
     pub compatibility: Compatibility,
     /// `"strict"`: silent fallbacks become errors.

@@ -449,8 +449,10 @@ fn split_face(
     let face_kind = if two_d || kind.is_face() {
         kind
     } else {
-        return Err(ErrorKind::NotImplemented(format!(
-            "interface conditions from a {} face",
+        // Every solid's boundary entities are faces (GeometryKind::faces); a kind without
+        // any reaches here only through a new kind added without them.
+        return Err(ErrorKind::Model(format!(
+            "interface conditions: a {} boundary entity is not a face kind",
             kind.name()
         ))
         .into());
