@@ -1,0 +1,207 @@
+//! `CheckPairing` of MappingCheck (reference §10.1): the mortar mapping, the paired
+//! conditions, the weighted gap and the activation.
+
+use super::*;
+
+/// What [`check_pairing`] works with besides the model, the pair and the run mode.
+pub(super) struct PairingStep<'a> {
+    pub(super) params: &'a SearchParameters,
+    pub(super) plan: &'a PairPlan,
+    /// The dynamic shift to undo after the mapping, if the nodes were moved.
+    pub(super) restore: Option<&'a [Vector]>,
+    /// The unit normals of the sub's faces on the current coordinates (the step's
+    /// [`compute_unit_normals`], kept), which the mapping's mean normals take instead of
+    /// computing them.
+    pub(super) face_normals: Option<KeptFaceNormals>,
+    /// The id after which paired conditions are numbered.
+    pub(super) condition_id: u32,
+}
+
+/// CheckPairing (§10.1) of MappingCheck, after the search filled the INDEX_MAPs: Advanced sets
+/// `DISTANCE_THRESHOLD` from the mean NODAL_H; NormalGapProcess (`NORMAL_GAP := 1e12`, the
+/// mortar mapping that removes the entries without overlap and erases their paired
+/// conditions); the dynamic shift is undone (`restore`); the unit normals are recomputed
+/// (without `restore` the caller computed them on this sub with the same coordinates, and
+/// their values are written back instead);
+/// CreateAuxiliaryConditions for the surviving new entries; ComputeWeightedReaction;
+/// ComputeActiveInactiveNodes (with the multiplier guesses and, for frictional contact — a
+/// SLIP root model part — the SLIP rule). Returns the activation's warnings.
+///
+pub(super) fn check_pairing(
+    model: &mut ModelPart,
+    pair: &mut PairSearch,
+    step: PairingStep<'_>,
+    run: RunMode,
+) -> Result<Vec<String>, Error> {
+    let PairingStep {
+        params: p,
+        plan,
+        restore,
+        face_normals,
+        condition_id,
+    } = step;
+    let RunMode {
+        compatibility,
+        frictional,
+        python_path,
+        ..
+    } = run;
+    use csm_activation as act;
+    let inverted = p.inverted_search;
+    let sub = pair.sub;
+    let dim = usize::from(pair.instance.dim);
+    let activation_error = |e: act::Error| Error::from(ErrorKind::Model(e.to_string()));
+    let mode = match compatibility {
+        Compatibility::Kratos => act::MortarMode::Kratos,
+        Compatibility::Robust => act::MortarMode::Robust,
+    };
+    if !p.simple_search {
+        let h = act::mean_h(model, sub, inverted);
+        model.process_info_mut().set_number("DISTANCE_THRESHOLD", h);
+    }
+    let distance_threshold = model
+        .process_info()
+        .number("DISTANCE_THRESHOLD")
+        .unwrap_or(1e24);
+    let settings = act::MappingSettings {
+        mode,
+        distance_threshold,
+        inverted,
+        dim,
+    };
+    // Without a dynamic shift the coordinates are those of the step's unit normals: the
+    // unit normals after the mapping are the same values, kept here rather than recomputed
+    // (the mapping overwrites the nodal ones with its mean normals).
+    let unit_normals = if restore.is_none() {
+        UnitNormalsSnapshot::take(model, Some(sub))
+    } else {
+        None
+    };
+    // The same condition: the weighted gap's segmentation of a pair is the mapping's, so the
+    // mapping computes the weighted gap of the pairs it keeps (with the kept unit normals).
+    let weighted_gap =
+        plan.weighted_gap.is_used() && model.nodal_data().has_scalar(ScalarVar::WeightedGap);
+    let (report, known_gaps) = match &unit_normals {
+        Some(kept) if weighted_gap => {
+            let (report, known) =
+                act::normal_gap_process_keeping(model, sub, &settings, face_normals, kept.nodal())
+                    .map_err(activation_error)?;
+            (report, Some(known))
+        }
+        _ => (
+            act::normal_gap_process(model, sub, &settings, face_normals)
+                .map_err(activation_error)?,
+            None,
+        ),
+    };
+    crate::trace::mark("mapping");
+    let mapping_warnings = report.warnings(mode);
+    let ids = model.conditions().ids();
+    pair.pruned = report
+        .removed
+        .iter()
+        .map(|r| (ids[r.slave.index()], r.master.get()))
+        .collect();
+    // TO_ERASE: the paired conditions of removed entries (kept from an earlier step) go.
+    if report.removed.iter().any(|r| r.paired.is_some()) {
+        let erased: BTreeSet<u32> = report
+            .removed
+            .iter()
+            .filter_map(|r| r.paired.map(ConditionId::get))
+            .collect();
+        pair.paired.retain(|pc| !erased.contains(&pc.id.get()));
+    }
+    let sub_nodes = model.part(sub).nodes().to_vec();
+    if let Some(d) = restore {
+        shift_nodes(model, &sub_nodes, d, -1.0);
+    }
+    let normals_mode = match compatibility {
+        Compatibility::Kratos => NormalsMode::Kratos,
+        Compatibility::Robust => NormalsMode::Once,
+    };
+    match unit_normals {
+        // The mapping changed NORMAL only on nodes of the part's conditions (its mean
+        // normals): the kept column is the restored one.
+        Some(kept) => kept.restore_all(model),
+        None => drop(compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?),
+    }
+    crate::trace::mark("unit normals");
+    // CreateAuxiliaryConditions: slave side, entries without a paired condition.
+    if p.create_auxiliar_conditions {
+        let mut created = Vec::new();
+        for s in conditions_by_id(model, sub) {
+            if model.conditions().flags()[s.index()].is(Flag::SLAVE) == inverted {
+                continue;
+            }
+            for (master, paired) in model.index_map(s).iter() {
+                if paired.is_none()
+                    && let Some(m) = model.conditions().index_of(master.get())
+                {
+                    created.push((s, ConditionIdx(m as u32)));
+                }
+            }
+        }
+        finish_pairs(model, pair, created, condition_id);
+    }
+    crate::trace::mark("auxiliary conditions");
+    // ComputeWeightedReaction: only the Advanced activation reads WEIGHTED_GAP.
+    if plan.weighted_gap.is_used() {
+        let paired: Vec<_> = pair.paired.iter().map(|pc| (pc.slave, pc.master)).collect();
+        let isolated = act::compute_weighted_gap(
+            model,
+            sub,
+            &paired,
+            (mode, distance_threshold),
+            dim,
+            known_gaps,
+        )
+        .map_err(activation_error)?;
+        for (pc, isolated) in pair.paired.iter_mut().zip(isolated) {
+            pc.isolated = isolated;
+        }
+    }
+    crate::trace::mark("weighted gap");
+    let rule = if p.simple_search {
+        act::ActivationRule::Simple
+    } else {
+        act::ActivationRule::Advanced {
+            static_check_movement: p.static_check_movement,
+            consider_gap_threshold: p.consider_gap_threshold,
+            distance_threshold,
+            active_check_factor: model
+                .process_info()
+                .number("ACTIVE_CHECK_FACTOR")
+                .unwrap_or(0.0),
+        }
+    };
+    // Python's ALM path computes INITIAL_PENALTY and SCALE_FACTOR with
+    // ALMVariablesCalculationProcess, which csm does not emulate: without values in the
+    // setup's `process_info` the guess is skipped (with a warning) rather than guessed wrong.
+    // The C++ path reads absent values as 0 (0/0 = NaN, Q25), which kratos mode reproduces.
+    let initial_penalty = model.process_info().number("INITIAL_PENALTY");
+    let scale_factor = model.process_info().number("SCALE_FACTOR");
+    let not_emulated = python_path && (initial_penalty.is_none() || scale_factor.is_none());
+    let multiplier = act::MultiplierSettings {
+        kind: act::MultiplierKind::of(model),
+        initial_penalty,
+        scale_factor,
+        predict_correct: p.predict_correct_lagrange_multiplier,
+        slip: frictional,
+        pure_slip: p.pure_slip,
+        guarded: compatibility == Compatibility::Robust || not_emulated,
+    };
+    let report = act::compute_active_inactive_nodes(
+        model,
+        sub,
+        &act::ActivationSettings {
+            rule,
+            inverted,
+            keep_gap_on_inactive: compatibility == Compatibility::Robust,
+            multiplier,
+        },
+    );
+    crate::trace::mark("activation");
+    let mut warnings = mapping_warnings;
+    warnings.extend(report.warnings);
+    Ok(warnings)
+}

@@ -1,0 +1,436 @@
+//! `SearchUsingKDTree` (reference §5.3) and the self-contact pre-search (§12.1): the kd-tree
+//! over the point list, the parallel per-slave queries and the serial, ordered application.
+
+use super::*;
+
+/// SearchUsingKDTree (§5.3): the kd-tree over the point list, the parallel per-slave queries
+/// and tests, then the serial, ordered application.
+///
+/// In a multi-step run (`keep_tree`) the tree of the last step is refitted to the moved
+/// centres instead of rebuilt when the master-side conditions are the same and the result
+/// order cannot change the pairs (not Kratos-mode DirectCheck, whose node counting follows
+/// the candidate order). A refitted tree finds the same masters; if a query reaches the
+/// result cap (`max_number_results`), where the traversal order decides which are kept, the
+/// tree is rebuilt and every query run again.
+pub(super) fn kdtree_search(
+    model: &mut ModelPart,
+    pair: &mut PairSearch,
+    (p, pass): (&SearchParameters, KdPass),
+    plan: &PairPlan,
+    (compatibility, keep_tree): (Compatibility, bool),
+    delta: Option<&[Vector]>,
+    created: &mut Vec<(ConditionIdx, ConditionIdx)>,
+) -> Result<(), Error> {
+    let inverted = p.inverted_search;
+    let sub = pair.sub;
+    let dim = usize::from(pair.instance.dim);
+    let check = !inverted || !p.predefined_master_slave;
+    let pre_search = matches!(pass, KdPass::SelfContact { .. });
+    let keep_tree = keep_tree && !pre_search;
+    let conditions = conditions_by_id(model, sub);
+    // The masters in id order and their centres, in two lists the tree takes as its own (no
+    // list of pairs to copy: fresh memory is a large part of this stage's cost).
+    let flags = model.conditions().flags();
+    let (points, with_obb) = match pass {
+        KdPass::Main { points, with_obb } | KdPass::SelfContact { points, with_obb } => {
+            (points, with_obb)
+        }
+    };
+    let master_list: Vec<u32> = match points {
+        Some(list) => list,
+        None => conditions
+            .iter()
+            .filter(|c| flags[c.index()].is(Flag::MASTER) == check)
+            .map(|c| c.get())
+            .collect(),
+    };
+    let centres_of = |list: &[u32]| -> Vec<Point> {
+        let coords = model.nodes().coordinates();
+        list.par_iter()
+            .map(|&c| {
+                let nodes = model.conditions().nodes(c as usize);
+                let mut center = Point::origin();
+                for n in nodes {
+                    center.coords += coords[n.index()].coords;
+                }
+                Point::from(center.coords / nodes.len() as Real)
+            })
+            .collect()
+    };
+    let centres = centres_of(&master_list);
+    crate::trace::mark("master centres");
+    let tree_error = |e: csm_trees::Error| {
+        Error::from(ErrorKind::Model(format!(
+            "kd-tree of the master conditions: {e}"
+        )))
+    };
+    let new_tree = |list: Vec<u32>, centres: Vec<Point>| {
+        KdTree::from_parts(list, centres, p.bucket_size, TREE_DEFER_MAX).map_err(tree_error)
+    };
+    let order_free = p.check_gap != CheckGap::DirectCheck || compatibility == Compatibility::Robust;
+    // Kept only for a multi-step run: the next step refits the tree if its masters are these.
+    let ids: Vec<u32> = if keep_tree {
+        master_list.clone()
+    } else {
+        Vec::new()
+    };
+    let kept = if pre_search { None } else { pair.tree.take() };
+    let (mut tree, refitted) = match kept {
+        Some(mut kept) if keep_tree && order_free && kept.ids == ids => {
+            let mut at = vec![Point::origin(); model.conditions().len()];
+            for (&c, x) in master_list.iter().zip(&centres) {
+                at[c as usize] = *x;
+            }
+            kept.tree.refit(|c| at[c as usize]).map_err(tree_error)?;
+            (kept.tree, true)
+        }
+        _ => (new_tree(master_list, centres)?, false),
+    };
+    crate::trace::mark("kd-tree");
+    // Read in place: the model is only read until the serial pairing below.
+    let h_col = model
+        .nodal_data()
+        .scalar(ScalarVar::NodalH, 0)
+        .unwrap_or(&[]);
+    let hmax = model
+        .part(sub)
+        .nodes()
+        .iter()
+        .map(|n| h_col[n.index()])
+        .fold(0.0, Real::max);
+    let hmax = if hmax < EPS { 1.0 } else { hmax };
+    let bbf = p.octree.bounding_box_factor * hmax;
+    let with_kdop = plan.kdop.is_used();
+    // Master boxes, once per step (Kratos rebuilds one per candidate); No/DirectCheck build
+    // them with build_from_bounding_box = true (Q4). Allocated only for the OBB test.
+    let master_bfb = p.check_gap != CheckGap::MappingCheck || p.octree.build_from_bounding_box;
+    // In the tree's stored order: a block of consecutive masters lies in one region of space,
+    // so a query near a few masters computes the boxes of its neighbours, not of masters
+    // anywhere (the conditions' own order need not be spatial).
+    let masters: Vec<ConditionIdx> = tree
+        .stored_items()
+        .iter()
+        .map(|&c| ConditionIdx(c))
+        .collect();
+    // Built when first asked for by a query, which holds the model: both are dropped before
+    // the pairing changes it.
+    let shared: &ModelPart = model;
+    let master_bvs = if with_obb {
+        PerMaster::new(shared, &masters, move |c, points| {
+            Geometry::new(shared.conditions().kind(c.index()), points)
+                .and_then(|g| Bv::build(&g, dim, bbf, master_bfb, compatibility))
+        })
+    } else {
+        PerMaster::none()
+    };
+    crate::trace::mark("master boxes");
+    let master_kdops = if with_kdop {
+        PerMaster::new(shared, &masters, move |_, points| {
+            Kdop18::from_points(points).enlarged(bbf)
+        })
+    } else {
+        PerMaster::none()
+    };
+    let slaves: Vec<ConditionIdx> = conditions
+        .iter()
+        .copied()
+        .filter(|c| {
+            let f = model.conditions().flags()[c.index()];
+            pre_search || (f.is_defined(Flag::ACTIVE) && f.is(Flag::SLAVE) != inverted)
+        })
+        .collect();
+    let nodal_normals = model
+        .nodal_data()
+        .vector(VectorVar::Normal, 0)
+        .unwrap_or(&[]);
+    let acf = model
+        .process_info()
+        .number("ACTIVE_CHECK_FACTOR")
+        .unwrap_or(0.0);
+    let candidates: SlaveCandidates = {
+        let cx = QueryContext {
+            model,
+            params: p,
+            obb_test: with_obb,
+            kdop: with_kdop,
+            bbf,
+            dim,
+            slave_nodes: usize::from(pair.instance.slave_nodes),
+            compatibility,
+            delta,
+            nodal_normals,
+            nodal_h: h_col,
+            active_check_factor: acf,
+            master_bvs: &master_bvs,
+            master_kdops: &master_kdops,
+        };
+        // The queries of the slaves far from the tree run as their nodes are read, in slave
+        // order; the others along a Morton curve of the slave centres (neighbouring queries
+        // visit the same tree nodes and masters). The results go back to the slave order.
+        let query_all = |tree: &KdTree<u32>| -> (Vec<usize>, Vec<QueryChunk>, bool) {
+            let truncated = AtomicBool::new(false);
+            let query = |scratch: &mut QueryScratch, out: &mut QueryChunk, k: usize| {
+                match slave_candidates(&cx, tree, slaves[k], scratch) {
+                    Ok(capped) => {
+                        if capped {
+                            truncated.store(true, Ordering::Relaxed);
+                        }
+                        out.list.extend_from_slice(&scratch.candidates);
+                        out.counts.push(scratch.candidates.len() as u32);
+                    }
+                    Err(e) => {
+                        out.counts.push(0);
+                        if out.error.as_ref().is_none_or(|(first, _)| k < *first) {
+                            out.error = Some((k, e));
+                        }
+                    }
+                }
+            };
+            let far = Far::new(tree.bounds(), p.search_factor);
+            let first: Vec<FarQueries> = slaves
+                .par_chunks(QUERY_CHUNK)
+                .enumerate()
+                .map_init(QueryScratch::default, |scratch, (i, chunk)| {
+                    let mut out = FarQueries::default();
+                    for (j, &c) in chunk.iter().enumerate() {
+                        let k = i * QUERY_CHUNK + j;
+                        let (centre, radius) = reach(model, c);
+                        if far.is_far(&centre, radius) {
+                            query(scratch, &mut out.chunk, k);
+                            out.done.push(k);
+                        } else {
+                            out.near.push((k, centre));
+                        }
+                    }
+                    out
+                })
+                .collect();
+            let mut order = Vec::with_capacity(slaves.len());
+            let mut chunks = Vec::with_capacity(first.len());
+            let mut near = Vec::new();
+            for queries in first {
+                order.extend(queries.done);
+                chunks.push(queries.chunk);
+                near.extend(queries.near);
+            }
+            // Where many slaves come near the masters, most masters' boxes will be asked for:
+            // computed first, in master order.
+            if near.len() >= slaves.len() / 4 {
+                master_bvs.compute_all();
+                master_kdops.compute_all();
+            }
+            let curve = morton_order_of(&near);
+            chunks.extend(
+                curve
+                    .par_chunks(QUERY_CHUNK)
+                    .map_init(QueryScratch::default, |scratch, chunk| {
+                        let mut out = QueryChunk::default();
+                        for &k in chunk {
+                            query(scratch, &mut out, k);
+                        }
+                        out
+                    })
+                    .collect::<Vec<_>>(),
+            );
+            order.extend(curve);
+            (order, chunks, truncated.into_inner())
+        };
+        let (mut order, mut chunks, truncated) = query_all(&tree);
+        if refitted && truncated {
+            // A capped query keeps the first masters in traversal order: take a rebuilt
+            // tree's order, as a step without a kept tree does.
+            let mut by_id: Vec<u32> = tree.stored_items().to_vec();
+            by_id.sort_unstable_by_key(|&c| model.conditions().ids()[c as usize]);
+            let centres = centres_of(&by_id);
+            tree = new_tree(by_id, centres)?;
+            (order, chunks, _) = query_all(&tree);
+        }
+        SlaveCandidates::in_slave_order(&order, chunks)
+    };
+    drop((master_bvs, master_kdops));
+    crate::trace::mark("slave queries");
+    if keep_tree {
+        pair.tree = Some(KeptTree { ids, tree });
+    }
+    let active_before = (compatibility == Compatibility::Robust).then(|| active_snapshot(model));
+    let pcx = PairingContext {
+        params: p,
+        inverted,
+        slave_nodes: usize::from(pair.instance.slave_nodes),
+        active_before: active_before.as_deref(),
+    };
+    if let Some(e) = candidates.error {
+        return Err(e);
+    }
+    for (k, s) in slaves.iter().enumerate() {
+        apply_candidates(model, &pcx, *s, candidates.of(k), created);
+    }
+    Ok(())
+}
+
+/// Which kd-tree search [`kdtree_search`] runs.
+pub(super) enum KdPass {
+    /// SearchUsingKDTree (§5.3): the slave-side conditions against `points` (the MASTER
+    /// conditions when `None`).
+    Main {
+        points: Option<Vec<u32>>,
+        with_obb: bool,
+    },
+    /// The self-contact pre-search (§12.1): every condition against `points`, candidates
+    /// kept by CheckCondition into the INDEX_MAPs, whatever `check_gap`.
+    SelfContact {
+        points: Option<Vec<u32>>,
+        with_obb: bool,
+    },
+}
+
+/// Roles not predefined (§5 step 5, §12.1): the point list (the MASTER conditions when
+/// empty), the pre-search of every condition against it, `ComputeSelfContactPairing`
+/// (§12.2), then the point list becomes the conditions left without candidates (id order)
+/// and every INDEX_MAP is cleared for the main search.
+pub(super) fn self_contact_roles(
+    model: &mut ModelPart,
+    pair: &mut PairSearch,
+    p: &SearchParameters,
+    plan: &PairPlan,
+    compatibility: Compatibility,
+    delta: Option<&[Vector]>,
+) -> Result<(), Error> {
+    let sub = pair.sub;
+    if pair.points.is_empty() {
+        let flags = model.conditions().flags();
+        pair.points = conditions_by_id(model, sub)
+            .into_iter()
+            .filter(|c| flags[c.index()].is(Flag::MASTER))
+            .map(|c| c.get())
+            .collect();
+    }
+    // CheckCondition always (MappingCheck), build_from_bounding_box for both boxes; the OBB
+    // test only for the kd-tree types with OBB (the octree's pre-search is a radius search).
+    let pre = SearchParameters {
+        check_gap: CheckGap::MappingCheck,
+        ..p.clone()
+    };
+    let with_obb = matches!(
+        p.type_search,
+        SearchTreeType::KdtreeInRadiusWithObb | SearchTreeType::KdtreeInBoxWithObb
+    );
+    let pass = KdPass::SelfContact {
+        points: Some(pair.points.clone()),
+        with_obb,
+    };
+    let mut none = Vec::new();
+    kdtree_search(
+        model,
+        pair,
+        (&pre, pass),
+        plan,
+        (compatibility, false),
+        delta,
+        &mut none,
+    )?;
+    compute_self_contact_pairing(model, sub)?;
+    let conditions = conditions_by_id(model, sub);
+    pair.points = conditions
+        .iter()
+        .filter(|c| model.index_map(**c).is_empty())
+        .map(|c| c.get())
+        .collect();
+    for c in conditions {
+        model.index_map_mut(c).clear();
+    }
+    Ok(())
+}
+
+/// Slave queries per parallel task.
+pub(super) const QUERY_CHUNK: usize = 256;
+
+/// Subtrees of the step's kd-tree over at most this many master centres are built when a
+/// slave query first reaches them ([`KdTree::new_deferred`]: the same tree, the same query
+/// results): where the bodies touch in a small region, most are never built (sphere 2e5:
+/// the tree 0.093 → 0.045 s on one thread; 256 and 4096 points measured alike or worse).
+pub(super) const TREE_DEFER_MAX: usize = 1024;
+
+/// The candidates of consecutive queries (along the Morton curve) of one task.
+#[derive(Default)]
+pub(super) struct QueryChunk {
+    /// Per query, its number of candidates.
+    counts: Vec<u32>,
+    list: Vec<Candidate>,
+    /// The error of the query with the smallest slave position, if any.
+    error: Option<(usize, Error)>,
+}
+
+/// The first pass of the slave queries over consecutive slaves: the queries of the far ones.
+#[derive(Default)]
+pub(super) struct FarQueries {
+    /// Their results.
+    chunk: QueryChunk,
+    /// Their positions, in order.
+    done: Vec<usize>,
+    /// The positions and centres of the others.
+    near: Vec<(usize, Point)>,
+}
+
+/// The candidates of every slave, flat: slave `k`'s are `list[start[k]..start[k + 1]]`.
+pub(super) struct SlaveCandidates {
+    start: Vec<u32>,
+    list: Vec<Candidate>,
+    /// The error of the first slave (in slave order) whose query failed.
+    error: Option<Error>,
+}
+
+impl SlaveCandidates {
+    /// From the chunks of the queries in `order` (slave positions along the curve).
+    fn in_slave_order(order: &[usize], chunks: Vec<QueryChunk>) -> SlaveCandidates {
+        let n = order.len();
+        let mut count = vec![0u32; n];
+        let mut error: Option<(usize, Error)> = None;
+        let mut j = 0;
+        for chunk in &chunks {
+            for &c in &chunk.counts {
+                count[order[j]] = c;
+                j += 1;
+            }
+        }
+        let mut start = Vec::with_capacity(n + 1);
+        start.push(0u32);
+        let mut total = 0u32;
+        for c in &count {
+            total += c;
+            start.push(total);
+        }
+        let mut list = vec![
+            Candidate {
+                master: ConditionIdx(0),
+                node_pass: 0
+            };
+            total as usize
+        ];
+        let mut j = 0;
+        for chunk in chunks {
+            let mut from = 0usize;
+            for &c in &chunk.counts {
+                let k = order[j];
+                let to = start[k] as usize;
+                list[to..to + c as usize].copy_from_slice(&chunk.list[from..from + c as usize]);
+                from += c as usize;
+                j += 1;
+            }
+            if let Some((k, e)) = chunk.error
+                && error.as_ref().is_none_or(|(first, _)| k < *first)
+            {
+                error = Some((k, e));
+            }
+        }
+        SlaveCandidates {
+            start,
+            list,
+            error: error.map(|(_, e)| e),
+        }
+    }
+
+    fn of(&self, k: usize) -> &[Candidate] {
+        &self.list[self.start[k] as usize..self.start[k + 1] as usize]
+    }
+}

@@ -1,0 +1,96 @@
+//! The RESULT.json content of the current state (`ContactSearch::result`).
+
+use super::*;
+
+impl ContactSearch {
+    /// The RESULT.json content of the current state.
+    pub fn result(&self, model: &ModelPart) -> SearchResult {
+        let mut result = SearchResult {
+            warnings: self.warnings.clone(),
+            kratos_condition_ids: self.kratos_ids.clone(),
+            ..Default::default()
+        };
+        let ids = model.conditions().ids();
+        let node_ids = model.nodes().ids();
+        for pair in &self.pairs {
+            let inverted = pair.params.inverted_search;
+            // Collected in vectors and bulk-built into the maps (sorted input: no per-entry
+            // tree insertion).
+            let mut slaves: Vec<(u32, Vec<u32>)> = Vec::new();
+            // The slave side's nodes, by node index (no sort of every face's nodes).
+            let mut on_slave_side = vec![false; model.nodes().len()];
+            let gaps = if pair.params.check_gap == CheckGap::MappingCheck {
+                model.nodal_data().scalar(ScalarVar::NormalGap, 0)
+            } else {
+                None
+            };
+            for c in model.part(pair.sub).conditions() {
+                if model.conditions().flags()[c.index()].is(Flag::SLAVE) == inverted {
+                    continue;
+                }
+                let masters: Vec<u32> = model
+                    .index_map(*c)
+                    .masters()
+                    .map(ConditionId::get)
+                    .collect();
+                slaves.push((ids[c.index()], masters));
+                for n in model.conditions().nodes(c.index()) {
+                    on_slave_side[n.index()] = true;
+                }
+            }
+            // A part's conditions are duplicate-free, so each id comes once.
+            slaves.sort_unstable_by_key(|(id, _)| *id);
+            let slaves: std::collections::BTreeMap<u32, Vec<u32>> = slaves.into_iter().collect();
+            let mut node_results: Vec<(u32, NodeResult)> = (0..on_slave_side.len())
+                .filter(|&i| on_slave_side[i])
+                .map(|i| {
+                    let n = NodeIdx(i as u32);
+                    let flags = model.nodes().flags()[n.index()];
+                    // NORMAL_GAP is never written by No/DirectCheck (null); MappingCheck's
+                    // 1e12 "not mapped" sentinel is null too.
+                    let normal_gap = gaps
+                        .and_then(|g| g.get(n.index()).copied())
+                        .filter(|g| *g != csm_activation::NORMAL_GAP_SENTINEL);
+                    (
+                        node_ids[n.index()],
+                        NodeResult {
+                            normal_gap,
+                            active: flags.is(Flag::ACTIVE),
+                        },
+                    )
+                })
+                .collect();
+            node_results.sort_unstable_by_key(|(id, _)| *id);
+            if result.nodes.is_empty() {
+                result.nodes = node_results.into_iter().collect();
+            } else {
+                result.nodes.extend(node_results);
+            }
+            let pruned = by_slave(&pair.pruned);
+            result.pruned.insert(pair.key.to_string(), pruned);
+            result.pairs.insert(pair.key.to_string(), slaves);
+            result.paired_conditions += pair.paired.len();
+        }
+        if self.setup.process == ContactProcess::Mpc {
+            // MPCContactSearchProcess::AddPairing: one constraint per paired condition.
+            result.master_slave_constraints = Some(result.paired_conditions);
+        }
+        result
+    }
+}
+
+/// `(slave id, master id)` entries as a map from each slave id to its master ids, ascending
+/// (repeated entries kept): sorted (the mapping reports them in that order already), grouped
+/// by slave and bulk-built into the map, without a tree search per entry.
+pub(crate) fn by_slave(entries: &[(u32, u32)]) -> std::collections::BTreeMap<u32, Vec<u32>> {
+    let mut entries = entries.to_vec();
+    entries.sort_unstable();
+    let mut grouped: Vec<(u32, Vec<u32>)> = Vec::new();
+    for (s, m) in entries {
+        match grouped.last_mut() {
+            Some((last, masters)) if *last == s => masters.push(m),
+            _ => grouped.push((s, vec![m])),
+        }
+    }
+    grouped.into_iter().collect()
+}
