@@ -36,7 +36,7 @@ pub use activation::{
 pub use error::Error;
 pub use mapping::{
     MAPPER_ABSOLUTE_TOLERANCE, MAPPER_MAX_ITERATIONS, MAPPER_RELATIVE_TOLERANCE, MappingReport,
-    MappingSettings, NORMAL_GAP_SENTINEL, RemovedEntry, mean_h, normal_gap_process,
+    MappingSettings, MappingTuning, NORMAL_GAP_SENTINEL, RemovedEntry, mean_h, normal_gap_process,
     normal_gap_process_keeping,
 };
 pub use multiplier::{MultiplierKind, MultiplierSettings};

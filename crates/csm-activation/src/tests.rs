@@ -98,12 +98,18 @@ fn warped_scene() -> (ModelPart, PartIdx) {
     (m, sub)
 }
 
+/// Kratos mode; the mapping streams whatever the number of entries, so that these small
+/// scenes run the streamed path (the search's tests and the fixtures run the defaults).
 fn settings() -> MappingSettings {
     MappingSettings {
         mode: MortarMode::Kratos,
         distance_threshold: 1e24,
         inverted: false,
         dim: 3,
+        tuning: MappingTuning {
+            stream_min_entries: 0,
+            ..MappingTuning::default()
+        },
     }
 }
 
@@ -574,15 +580,6 @@ fn known_gaps_cursor_answers_as_a_binary_search() {
     assert!(hits > 2000 && misses > 4000, "{hits} hits, {misses} misses");
 }
 
-thread_local! {
-    /// Makes the mapping keep `D` and `M` where it would keep the master values' products.
-    pub(crate) static FORCE_OPERATORS: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-    /// Makes the mapping keep every pair's operators where it would stream them.
-    pub(crate) static FORCE_STORED: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-    /// The streamed mapping's batch size, in place of its own.
-    pub(crate) static STREAM_BATCH: std::cell::Cell<Option<usize>> = const { std::cell::Cell::new(None) };
-}
-
 /// The mapping that keeps the master values' products in place of `M` maps as the one that
 /// keeps `M`, bit for bit (report, NORMAL_GAP, NODAL_AREA, AUXILIAR_COORDINATES), on warped
 /// faces, not inverted and inverted (master values zero); a master node that is also a slave
@@ -629,16 +626,21 @@ fn master_products_map_as_the_operators() {
                 &s,
                 &crate::mapping::SlavePositions::new(&s, model.nodes().len()),
                 !inverted,
-                3
+                3,
+                false
             ),
             crate::mapping::OperatorStore::MasterProducts { .. }
         ));
         let mut with_products = model.clone();
         let a = normal_gap_process(&mut with_products, sub, &settings, None).unwrap();
-        FORCE_OPERATORS.with(|f| f.set(true));
-        let b = normal_gap_process(&mut model, sub, &settings, None);
-        FORCE_OPERATORS.with(|f| f.set(false));
-        let b = b.unwrap();
+        let full = MappingSettings {
+            tuning: MappingTuning {
+                full_operators: true,
+                ..settings.tuning
+            },
+            ..settings
+        };
+        let b = normal_gap_process(&mut model, sub, &full, None).unwrap();
         assert_eq!(a, b, "inverted: {inverted}");
         assert_eq!(a.kept, 1, "inverted: {inverted}");
         assert_eq!(bits(&with_products), bits(&model), "inverted: {inverted}");
@@ -651,7 +653,8 @@ fn master_products_map_as_the_operators() {
             &s,
             &crate::mapping::SlavePositions::new(&s, base.nodes().len()),
             true,
-            3
+            3,
+            false
         ),
         crate::mapping::OperatorStore::Operators
     ));
@@ -874,11 +877,15 @@ fn streamed_mapping_maps_as_the_stored_one() {
             };
             let run = |stored: bool, batch: Option<usize>| {
                 let mut m = base.clone();
-                FORCE_STORED.with(|f| f.set(stored));
-                STREAM_BATCH.with(|b| b.set(batch));
-                let r = normal_gap_process_keeping(&mut m, sub, &settings, None, &unit_normals);
-                FORCE_STORED.with(|f| f.set(false));
-                STREAM_BATCH.with(|b| b.set(None));
+                let tuned = MappingSettings {
+                    tuning: MappingTuning {
+                        stream_min_entries: if stored { usize::MAX } else { 0 },
+                        stream_batch: batch.unwrap_or(settings.tuning.stream_batch),
+                        ..settings.tuning
+                    },
+                    ..settings
+                };
+                let r = normal_gap_process_keeping(&mut m, sub, &tuned, None, &unit_normals);
                 let (report, known) = r.unwrap();
                 let gaps = format!("{:?}", known.entries());
                 (report, mapped_bits(&m), gaps)

@@ -20,6 +20,7 @@ mod search;
 mod self_contact;
 mod shared_conditions;
 mod step_jump;
+mod tuning;
 
 pub(crate) use filters::passes_orientation;
 pub use result::{NodeResult, SearchResult, StepResult};
@@ -27,6 +28,7 @@ pub use search::{ContactSearch, PairedCondition};
 pub(crate) use search::{TruthScene, locate};
 #[cfg(test)]
 pub(crate) use search::{by_slave, morton_order};
+pub use tuning::{MappingTuning, QueryOrder, SearchTuning};
 
 #[cfg(test)]
 pub(crate) mod tests;

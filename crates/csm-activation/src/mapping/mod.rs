@@ -33,7 +33,7 @@ pub(crate) use sides::{SlavePositions, sides};
 
 use iterate::{Segmented, kratos_iterations, solve_relative};
 use segment::{Segmenting, WeightedGapInputs, kept_only, segment_slaves};
-use stream::{stream_first_iterations, streams};
+use stream::{SLAVES_PER_BATCH, STREAM_MIN_ENTRIES, stream_first_iterations, streams};
 
 /// Conditions per parallel task of the reference area.
 const CONDITIONS_PER_TASK: usize = 4096;
@@ -62,6 +62,34 @@ pub struct MappingSettings {
     pub inverted: bool,
     /// The domain size (2 or 3): the number of mapped components.
     pub dim: usize,
+    /// How the work is organised ([`MappingTuning::default`] in production).
+    pub tuning: MappingTuning,
+}
+
+/// How the mapping organises its work in kratos mode. No choice changes a result — every
+/// one gives the same bits (tested over every combination) —: they let the tests reach every
+/// path on small models, and a caller trade memory for passes over the INDEX_MAPs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MappingTuning {
+    /// From this many INDEX_MAP entries on, the first two iterations are streamed batch by
+    /// batch instead of keeping every pair's operators (where they can be: module
+    /// `mapping::stream`); `usize::MAX` never streams. Default 65,536.
+    pub stream_min_entries: usize,
+    /// Slave conditions per streamed batch. Default 8,192.
+    pub stream_batch: usize,
+    /// Keep each pair's `D` and `M` even where the products `M·v` of the fixed master values
+    /// would do. Default false.
+    pub full_operators: bool,
+}
+
+impl Default for MappingTuning {
+    fn default() -> MappingTuning {
+        MappingTuning {
+            stream_min_entries: STREAM_MIN_ENTRIES,
+            stream_batch: SLAVES_PER_BATCH,
+            full_operators: false,
+        }
+    }
 }
 
 /// An `INDEX_MAP` entry the mapping removed (no overlap).
@@ -329,14 +357,15 @@ fn normal_gap_process_inner(
         store: if robust {
             OperatorStore::Relative { dim }
         } else {
-            OperatorStore::for_sides(&s, &slaves, o, dim)
+            OperatorStore::for_sides(&s, &slaves, o, dim, settings.tuning.full_operators)
         },
         weighted_gap,
+        stream_batch: settings.tuning.stream_batch.max(1),
     };
     let mut report = MappingReport::default();
     let mut standard = Vec::new();
     let m = &*model;
-    let (segmented, gaps) = if streams(m, &s, &slaves, tasks.store) {
+    let (segmented, gaps) = if streams(m, &s, &slaves, tasks.store, &settings.tuning) {
         let mut first = stream_first_iterations(
             m,
             &s,

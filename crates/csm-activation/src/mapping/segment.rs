@@ -88,12 +88,9 @@ impl OperatorStore {
         slaves: &SlavePositions,
         origin: bool,
         dim: usize,
+        full_operators: bool,
     ) -> OperatorStore {
-        #[cfg(test)]
-        if crate::tests::FORCE_OPERATORS.with(std::cell::Cell::get) {
-            return OperatorStore::Operators;
-        }
-        if s.master_nodes.iter().any(|&n| slaves.get(n).is_some()) {
+        if full_operators || s.master_nodes.iter().any(|&n| slaves.get(n).is_some()) {
             OperatorStore::Operators
         } else {
             OperatorStore::MasterProducts { origin, dim }
@@ -167,6 +164,8 @@ pub(super) struct Segmenting<'a> {
     pub(super) store: OperatorStore,
     /// With it, the weighted gap of every kept pair as well.
     pub(super) weighted_gap: Option<WeightedGapInputs<'a>>,
+    /// Slave conditions per streamed batch ([`super::MappingTuning::stream_batch`]).
+    pub(super) stream_batch: usize,
 }
 
 /// Segments the INDEX_MAP entries of `slaves`, in parallel: their mappings in slave order,

@@ -39,16 +39,12 @@ pub(super) fn streams(
     s: &Sides,
     slaves: &SlavePositions,
     store: OperatorStore,
+    tuning: &super::MappingTuning,
 ) -> bool {
-    #[cfg(test)]
-    if crate::tests::FORCE_STORED.with(std::cell::Cell::get) {
-        return false;
-    }
     if !matches!(store, OperatorStore::MasterProducts { .. }) {
         return false;
     }
-    // (The tests stream whatever the number of entries.)
-    let least = if cfg!(test) { 0 } else { STREAM_MIN_ENTRIES };
+    let least = tuning.stream_min_entries;
     let entries: usize = s
         .slave_conditions
         .iter()
@@ -89,7 +85,7 @@ pub(super) fn stream_first_iterations(
             unreachable!("streams only the master values' products")
         }
     };
-    let batch = batch_size();
+    let batch = tasks.stream_batch;
     // By slave node: the number of slave conditions done when its last one is (every node
     // of a slave condition is a slave node).
     let position = |n: NodeIdx| slaves.get(n).expect("streams: a slave node");
@@ -165,13 +161,4 @@ pub(super) fn stream_first_iterations(
         "every node is done after the last batch"
     );
     Ok(first)
-}
-
-/// [`SLAVES_PER_BATCH`], or the tests' own.
-fn batch_size() -> usize {
-    #[cfg(test)]
-    if let Some(n) = crate::tests::STREAM_BATCH.with(std::cell::Cell::get) {
-        return n;
-    }
-    SLAVES_PER_BATCH
 }

@@ -86,6 +86,7 @@ fn map(model: &mut ModelPart, sub: PartIdx, mode: MortarMode) -> (MappingReport,
         distance_threshold: 1e24,
         inverted: false,
         dim: 3,
+        tuning: MappingTuning::default(),
     };
     let report = normal_gap_process(model, sub, &settings, None).unwrap();
     let gaps = model.nodal_data().scalar(ScalarVar::NormalGap, 0).unwrap()[..4].to_vec();

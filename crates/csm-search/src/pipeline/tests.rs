@@ -801,7 +801,6 @@ fn morton_order_is_a_deterministic_z_curve_permutation() {
 /// then splits the slaves).
 #[test]
 fn the_order_of_the_slave_queries_does_not_change_the_step() {
-    use std::sync::atomic::Ordering;
     let mut model = plates(8, -0.005, false);
     let slave = model.find_part("Slave").unwrap();
     let slave_nodes = model.part(slave).nodes().len();
@@ -815,17 +814,27 @@ fn the_order_of_the_slave_queries_does_not_change_the_step() {
     }
     assert_eq!(slave_nodes, 81);
     let s = setup(r#"{"type_search": "in_radius_with_obb"}"#, "");
-    let step = |reach: u8| {
-        super::search::QUERY_REACH.store(reach, Ordering::Relaxed);
+    let step = |query_order: QueryOrder| {
         let mut m = model.clone();
-        let result = run(&mut m, &s);
-        super::search::QUERY_REACH.store(0, Ordering::Relaxed);
-        result
+        let mut search = ContactSearch::initialize(&mut m, &s).unwrap();
+        search.set_tuning(SearchTuning {
+            query_order,
+            ..SearchTuning::default()
+        });
+        search.step(&mut m).unwrap()
     };
-    let estimated = step(0);
+    let estimated = step(QueryOrder::Estimate);
     assert!(estimated.n_pairs() > 0);
-    assert_eq!(step(1), estimated, "every query first, in slave order");
-    assert_eq!(step(2), estimated, "every query along the curve");
+    assert_eq!(
+        step(QueryOrder::AllFirst),
+        estimated,
+        "every query first, in slave order"
+    );
+    assert_eq!(
+        step(QueryOrder::AllAlongCurve),
+        estimated,
+        "every query along the curve"
+    );
     // The estimate splits the slaves: some far from the masters' centres, some near.
     let master = model.find_part("Master").unwrap();
     let centres: Vec<Point> = model

@@ -68,6 +68,7 @@ pub(super) fn check_pairing(
         distance_threshold,
         inverted,
         dim,
+        tuning: run.tuning.mapping,
     };
     // Without a dynamic shift the coordinates are those of the step's unit normals: the
     // unit normals after the mapping are the same values, kept here rather than recomputed

@@ -253,6 +253,7 @@ impl ContactSearch {
             warnings,
             initial_normals,
             kratos_ids,
+            tuning: SearchTuning::default(),
         })
     }
 }

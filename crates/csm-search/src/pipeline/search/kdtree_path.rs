@@ -17,7 +17,7 @@ pub(super) fn kdtree_search(
     pair: &mut PairSearch,
     (p, pass): (&SearchParameters, KdPass),
     plan: &PairPlan,
-    (compatibility, keep_tree): (Compatibility, bool),
+    (compatibility, keep_tree, query_order): (Compatibility, bool, QueryOrder),
     delta: Option<&[Vector]>,
     created: &mut Vec<(ConditionIdx, ConditionIdx)>,
 ) -> Result<(), Error> {
@@ -195,7 +195,12 @@ pub(super) fn kdtree_search(
                     for (j, &c) in chunk.iter().enumerate() {
                         let k = i * QUERY_CHUNK + j;
                         let (centre, radius) = reach(model, c);
-                        if far.is_far(&centre, radius) {
+                        let first = match query_order {
+                            QueryOrder::Estimate => far.is_far(&centre, radius),
+                            QueryOrder::AllFirst => true,
+                            QueryOrder::AllAlongCurve => false,
+                        };
+                        if first {
                             query(scratch, &mut out.chunk, k);
                             out.done.push(k);
                         } else {
@@ -293,7 +298,7 @@ pub(super) fn self_contact_roles(
     pair: &mut PairSearch,
     p: &SearchParameters,
     plan: &PairPlan,
-    compatibility: Compatibility,
+    (compatibility, query_order): (Compatibility, QueryOrder),
     delta: Option<&[Vector]>,
 ) -> Result<(), Error> {
     let sub = pair.sub;
@@ -325,7 +330,7 @@ pub(super) fn self_contact_roles(
         pair,
         (&pre, pass),
         plan,
-        (compatibility, false),
+        (compatibility, false, query_order),
         delta,
         &mut none,
     )?;

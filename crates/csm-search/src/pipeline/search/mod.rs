@@ -23,6 +23,7 @@ use super::result::{NodeResult, SearchResult};
 use super::self_contact::{compute_self_contact_pairing, not_predefined_master_slave};
 use super::shared_conditions::check_contact_model_parts;
 use super::step_jump::compute_step_jump;
+use super::tuning::{QueryOrder, SearchTuning};
 use crate::error::{Error, ErrorKind};
 use crate::plan::{
     Decision, NodalVariable, NormalCheck, PairPlan, Plan, Storage, VariablePlan, contact_sub_path,
@@ -112,6 +113,8 @@ pub struct ContactSearch {
     /// order during `ExecuteInitialize` (reference §1.3 step 11), and Kratos' INDEX_MAPs hold
     /// the new ids. RESULT.json keeps the file ids and writes this map beside them.
     kratos_ids: BTreeMap<u32, u32>,
+    /// How the work is organised ([`SearchTuning::default`] unless set).
+    tuning: SearchTuning,
 }
 
 fn model_error(e: csm_model::Error) -> Error {
@@ -128,6 +131,17 @@ fn conditions_by_id(model: &ModelPart, part: PartIdx) -> Vec<ConditionIdx> {
 }
 
 impl ContactSearch {
+    /// Sets how the search organises its work (the order of the slave queries, the mapping's
+    /// streaming): never a result. Production leaves [`SearchTuning::default`].
+    pub fn set_tuning(&mut self, tuning: SearchTuning) {
+        self.tuning = tuning;
+    }
+
+    /// How the search organises its work.
+    pub fn tuning(&self) -> SearchTuning {
+        self.tuning
+    }
+
     /// The setup in force (after `adapt_search`).
     pub fn setup(&self) -> &SearchSetup {
         &self.setup
@@ -247,7 +261,7 @@ impl ContactSearch {
         };
         self.steps_run += 1;
         self.reset_marker(model);
-        let run = RunMode::of(&self.setup);
+        let run = RunMode::of(&self.setup, self.tuning);
         let pair = &mut self.pairs[i];
         let Some(pair_plan) = self.plan.pairs.get(&key) else {
             return Err(ErrorKind::Model(format!("pair {key}: no plan")).into());
@@ -328,7 +342,7 @@ impl ContactSearch {
             self.reset_marker(model);
             let n_pairs = self.pairs.len();
             for i in 0..n_pairs {
-                let run = RunMode::of(&self.setup);
+                let run = RunMode::of(&self.setup, self.tuning);
                 let pair = &mut self.pairs[i];
                 // Every key of the setup has its pair plan (both come from `setup.pairs`).
                 let Some(pair_plan) = self.plan.pairs.get_mut(&pair.key) else {
@@ -453,11 +467,6 @@ pub(crate) struct TruthScene {
     pub normal_orientation_threshold: Real,
 }
 
-/// The tests' override of [`Far::is_far`]: 1 takes every query as far, 2 none (0: the
-/// estimate). Only the order of the queries depends on it, so other tests may run meanwhile.
-#[cfg(test)]
-pub(crate) static QUERY_REACH: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(0);
-
 /// How a step runs, beside the pair's own parameters.
 #[derive(Debug, Clone, Copy)]
 struct RunMode {
@@ -469,15 +478,18 @@ struct RunMode {
     python_path: bool,
     /// The setup has more than one step and `refit_tree`: the kd-tree is kept and refitted.
     keep_tree: bool,
+    /// The work-organisation knobs.
+    tuning: SearchTuning,
 }
 
 impl RunMode {
-    fn of(setup: &SearchSetup) -> RunMode {
+    fn of(setup: &SearchSetup, tuning: SearchTuning) -> RunMode {
         RunMode {
             compatibility: setup.compatibility,
             frictional: setup.contact_type.is_frictional(),
             python_path: !setup.cpp_search_parameters,
             keep_tree: setup.refit_tree && setup.steps.len() > 1,
+            tuning,
         }
     }
 }

@@ -145,7 +145,15 @@ pub(super) fn update_mortar_conditions(
 
     // 5. Roles not predefined: the self-contact pre-search decides them (§12.1).
     if !p.predefined_master_slave {
-        self_contact_roles(model, pair, &p, plan, compatibility, delta.as_deref())?;
+        let order = run.tuning.query_order;
+        self_contact_roles(
+            model,
+            pair,
+            &p,
+            plan,
+            (compatibility, order),
+            delta.as_deref(),
+        )?;
     }
     // 6. SearchUsingOcTree (§8) or SearchUsingKDTree (§5.3).
     let mut created = Vec::new();
@@ -194,7 +202,7 @@ pub(super) fn update_mortar_conditions(
             pair,
             (&p, pass),
             plan,
-            (compatibility, run.keep_tree),
+            (compatibility, run.keep_tree, run.tuning.query_order),
             delta.as_deref(),
             &mut created,
         )?;

@@ -51,12 +51,6 @@ impl Far {
     /// Whether the query of a slave of centre `centre` and radius `radius` (see [`reach`]) is
     /// taken to stay far from the tree's points.
     pub(crate) fn is_far(&self, centre: &Point, radius: Real) -> bool {
-        #[cfg(test)]
-        match QUERY_REACH.load(Ordering::Relaxed) {
-            1 => return true,
-            2 => return false,
-            _ => {}
-        }
         self.bounds.is_some_and(|b| {
             let outside = (b.mins - centre)
                 .sup(&(centre - b.maxs))
