@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use serde_json::{Map, Value, json};
+use serde_json::Value;
 
 /// NORMAL_GAP and ACTIVE of one slave-side node after the search step.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,71 +61,15 @@ impl SearchResult {
     /// `timings` become `timings_s`. A multi-step result adds `steps`: per step `step`,
     /// `pairs`, `nodes`, `paired_conditions` and `timings_s` (`search`).
     pub fn to_json(&self, timings: &[(&str, f64)]) -> Value {
-        let pairs: Map<String, Value> = self
-            .pairs
-            .iter()
-            .map(|(key, slaves)| {
-                let m: Map<String, Value> = slaves
-                    .iter()
-                    .map(|(s, masters)| (s.to_string(), json!(masters)))
-                    .collect();
-                (key.clone(), Value::Object(m))
-            })
-            .collect();
-        let nodes: Map<String, Value> = self
-            .nodes
-            .iter()
-            .map(|(id, n)| {
-                let gap = n.normal_gap.filter(|g| g.is_finite());
-                (
-                    id.to_string(),
-                    json!({"normal_gap": gap, "active": n.active}),
-                )
-            })
-            .collect();
-        let timings: Map<String, Value> = timings
-            .iter()
-            .map(|(k, v)| ((*k).to_owned(), json!(v)))
-            .collect();
-        let mut out = Map::new();
-        out.insert("format".into(), json!("csm-result/1"));
-        out.insert("pairs".into(), Value::Object(pairs));
-        out.insert("nodes".into(), Value::Object(nodes));
-        out.insert("paired_conditions".into(), json!(self.paired_conditions));
-        if let Some(n) = self.master_slave_constraints {
-            out.insert("master_slave_constraints".into(), json!(n));
-        }
-        if !self.kratos_condition_ids.is_empty() {
-            let ids: Map<String, Value> = self
-                .kratos_condition_ids
-                .iter()
-                .map(|(file, kratos)| (file.to_string(), json!(kratos)))
-                .collect();
-            out.insert("kratos_condition_ids".into(), Value::Object(ids));
-        }
-        out.insert("warnings".into(), json!(self.warnings));
-        out.insert("timings_s".into(), Value::Object(timings));
-        if !self.steps.is_empty() {
-            let steps: Vec<Value> = self
-                .steps
-                .iter()
-                .map(|s| {
-                    let mut v = s.result.to_json(&[("search", s.search_s)]);
-                    let mut step = Map::new();
-                    step.insert("step".into(), json!(s.step));
-                    if let Value::Object(m) = &mut v {
-                        for key in ["pairs", "nodes", "paired_conditions", "timings_s"] {
-                            if let Some(x) = m.remove(key) {
-                                step.insert(key.into(), x);
-                            }
-                        }
-                    }
-                    Value::Object(step)
-                })
-                .collect();
-            out.insert("steps".into(), Value::Array(steps));
-        }
-        Value::Object(out)
+        // The one serde view of RESULT.json ([`ResultJson`]), also what `write_json` streams.
+        // It cannot fail: every map key is a string or an integer and every number is finite
+        // or written as null.
+        serde_json::to_value(ResultJson {
+            result: self,
+            timings,
+            step: None,
+        })
+        .expect("RESULT.json serialises")
     }
 
     /// Writes RESULT.json to `writer`, pretty-printed and followed by a newline: the same
@@ -321,16 +265,30 @@ mod json_tests {
         r
     }
 
-    /// The streamed RESULT.json is the text of the JSON tree, byte for byte.
+    /// RESULT.json's text: the contract's key order (optional keys after
+    /// `paired_conditions`), ids in numeric order, NaN and infinity as null, steps with their
+    /// own five keys; streamed or as a tree, the same text.
     #[test]
-    fn write_json_equals_the_pretty_tree() {
-        for steps in [false, true] {
-            let r = sample(steps);
-            let timings = [("read", 1.25), ("search", 3.0), ("total", f64::INFINITY)];
-            let tree = serde_json::to_string_pretty(&r.to_json(&timings)).unwrap() + "\n";
-            let mut streamed = Vec::new();
-            r.write_json(&timings, &mut streamed).unwrap();
-            assert_eq!(String::from_utf8(streamed).unwrap(), tree, "steps: {steps}");
-        }
+    fn result_json_has_the_contract_text() {
+        let r = sample(true);
+        let timings = [("read", 1.25), ("total", f64::INFINITY)];
+        let mut streamed = Vec::new();
+        r.write_json(&timings, &mut streamed).unwrap();
+        let text = String::from_utf8(streamed).unwrap();
+        let tree = serde_json::to_string_pretty(&r.to_json(&timings)).unwrap() + "\n";
+        assert_eq!(text, tree);
+        let compact: String = text.split_whitespace().collect();
+        let node = |gap: &str, active: bool| format!(r#"{{"normal_gap":{gap},"active":{active}}}"#);
+        let nodes = format!(
+            r#"{{"2":{},"5":{},"9":{}}}"#,
+            node("null", false),
+            node("-0.125", true),
+            node("null", false)
+        );
+        let pairs = r#"{"0":{"7":[],"12":[3,40]},"1":{}}"#;
+        let expected = format!(
+            r#"{{"format":"csm-result/1","pairs":{pairs},"nodes":{nodes},"paired_conditions":2,"master_slave_constraints":2,"kratos_condition_ids":{{"40":3}},"warnings":["a\"quoted\"warning"],"timings_s":{{"read":1.25,"total":null}},"steps":[{{"step":1,"pairs":{pairs},"nodes":{nodes},"paired_conditions":2,"timings_s":{{"search":0.5}}}},{{"step":2,"pairs":{{}},"nodes":{{}},"paired_conditions":0,"timings_s":{{"search":null}}}}]}}"#
+        );
+        assert_eq!(compact, expected);
     }
 }
