@@ -4,6 +4,7 @@
 use csm_geometry::math::{Point, Vector};
 use csm_geometry::{Geometry, MAX_MORTAR_FACE_NODES, MortarFace};
 use csm_model::{ConditionIdx, ModelPart, VectorVar};
+use smallvec::SmallVec;
 
 use crate::error::Error;
 
@@ -16,44 +17,7 @@ pub(crate) struct FaceData {
 
 /// One value per node of a condition: up to [`MAX_MORTAR_FACE_NODES`] in place (no allocation
 /// for a mortar face), more on the heap (a face the mortar routines refuse).
-#[derive(Clone)]
-pub(crate) struct PerNode<T> {
-    inline: [T; MAX_MORTAR_FACE_NODES],
-    len: usize,
-    heap: Vec<T>,
-}
-
-impl<T: Copy> PerNode<T> {
-    /// The values of `values` (`fill`: what the unused places hold).
-    fn new(values: impl ExactSizeIterator<Item = T>, fill: T) -> PerNode<T> {
-        let len = values.len();
-        let mut out = PerNode {
-            inline: [fill; MAX_MORTAR_FACE_NODES],
-            len,
-            heap: Vec::new(),
-        };
-        if len <= MAX_MORTAR_FACE_NODES {
-            for (place, v) in out.inline.iter_mut().zip(values) {
-                *place = v;
-            }
-        } else {
-            out.heap.extend(values);
-        }
-        out
-    }
-}
-
-impl<T> std::ops::Deref for PerNode<T> {
-    type Target = [T];
-
-    fn deref(&self) -> &[T] {
-        if self.len <= MAX_MORTAR_FACE_NODES {
-            &self.inline[..self.len]
-        } else {
-            &self.heap
-        }
-    }
-}
+pub(crate) type PerNode<T> = SmallVec<[T; MAX_MORTAR_FACE_NODES]>;
 
 pub(crate) fn face_data(model: &ModelPart, c: ConditionIdx) -> FaceData {
     face_data_with(model, c, model.nodal_data().vector(VectorVar::Normal, 0))
@@ -68,7 +32,7 @@ pub(crate) fn face_data_with(
     let coords = model.nodes().coordinates();
     let nodes = model.conditions().nodes(c.index());
     FaceData {
-        points: PerNode::new(nodes.iter().map(|n| coords[n.index()]), Point::origin()),
+        points: nodes.iter().map(|n| coords[n.index()]).collect(),
         normal: model.condition_normals()[c.index()],
         nodal_normals: nodal_normals(model, c, normals),
     }
@@ -81,10 +45,9 @@ pub(crate) fn nodal_normals(
     normals: Option<&[Vector]>,
 ) -> PerNode<Vector> {
     let nodes = model.conditions().nodes(c.index()).iter();
-    PerNode::new(
-        nodes.map(|n| normals.map_or(Vector::zeros(), |col| col[n.index()])),
-        Vector::zeros(),
-    )
+    nodes
+        .map(|n| normals.map_or(Vector::zeros(), |col| col[n.index()]))
+        .collect()
 }
 
 pub(crate) fn make_face<'a>(
