@@ -92,51 +92,39 @@ impl Row {
     }
 }
 
-struct Options {
-    sizes: Vec<String>,
-    scenes: Vec<String>,
-    types: Option<Vec<String>>,
-    all_types_up_to: f64,
-    kratos: bool,
-    repeat: usize,
+/// A size as written (it names the scene files), checked to be a number.
+fn number(s: &str) -> Result<String, String> {
+    s.parse::<f64>()
+        .map(|_| s.to_owned())
+        .map_err(|_| format!("size {s} is not a number"))
 }
 
-fn parse_options(args: &[String]) -> Result<Options> {
-    let mut o = Options {
-        sizes: ["1e3", "3e3", "1e4", "3e4", "1e5", "2e5"]
-            .map(str::to_owned)
-            .to_vec(),
-        scenes: vec!["sphere_on_plate".to_owned(), "stacked_blocks".to_owned()],
-        types: None,
-        all_types_up_to: 3e4,
-        kratos: true,
-        repeat: 3,
-    };
-    let list = |v: Option<&String>| -> Result<Vec<String>> {
-        Ok(v.context("missing value")?
-            .split(',')
-            .map(str::to_owned)
-            .collect())
-    };
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--sizes" => o.sizes = list(it.next())?,
-            "--scenes" => o.scenes = list(it.next())?,
-            "--types" => o.types = Some(list(it.next())?),
-            "--all-types-up-to" => {
-                o.all_types_up_to = it.next().context("missing value")?.parse()?;
-            }
-            "--no-kratos" => o.kratos = false,
-            "--repeat" => o.repeat = it.next().context("missing value")?.parse()?,
-            other => bail!("unknown option {other}"),
-        }
-    }
-    for s in &o.sizes {
-        s.parse::<f64>()
-            .with_context(|| format!("size {s} is not a number"))?;
-    }
-    Ok(o)
+/// The options of `cargo xtask bench`.
+#[derive(Debug, clap::Args)]
+pub struct Options {
+    /// Scene sizes (target face counts), comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "1e3,3e3,1e4,3e4,1e5,2e5", value_parser = number)]
+    sizes: Vec<String>,
+    /// Scenes, comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "sphere_on_plate,stacked_blocks"
+    )]
+    scenes: Vec<String>,
+    /// The type_search values of the sweep, comma-separated (default: every one up to
+    /// --all-types-up-to faces, then the default type only).
+    #[arg(long, value_delimiter = ',')]
+    types: Option<Vec<String>>,
+    /// Sizes up to which every type_search is measured.
+    #[arg(long, default_value_t = 3e4)]
+    all_types_up_to: f64,
+    /// Leave Kratos out (csm alone).
+    #[arg(long = "no-kratos", action = clap::ArgAction::SetFalse)]
+    kratos: bool,
+    /// Runs of each measurement (the fastest counts).
+    #[arg(long, default_value_t = 3)]
+    repeat: usize,
 }
 
 /// Runs `program args` under `/usr/bin/time`; returns (wall s, peak kB).
@@ -228,8 +216,7 @@ fn n_log_n_exponent(ns: &[f64]) -> Option<f64> {
 }
 
 /// `cargo xtask bench`.
-pub fn bench(args: &[String]) -> Result<()> {
-    let o = parse_options(args)?;
+pub fn bench(o: &Options) -> Result<()> {
     let root = workspace_root();
     crate::cargo(&["build", "--release", "--bin", "csm"], &[])?;
     let csm = root.join("target/release/csm");
@@ -386,7 +373,7 @@ pub fn bench(args: &[String]) -> Result<()> {
             }
         }
     }
-    std::fs::write(root.join("docs/performance.md"), report(&rows, &o)?)?;
+    std::fs::write(root.join("docs/performance.md"), report(&rows, o)?)?;
     std::fs::write(root.join("docs/performance.svg"), svg(&rows))?;
     std::fs::write(
         root.join("docs/performance.json"),
@@ -826,10 +813,23 @@ mod tests {
 
     #[test]
     fn options_parse_and_reject_unknown_flags() {
-        let o = parse_options(&["--sizes".into(), "1e3,2e5".into(), "--no-kratos".into()]).unwrap();
+        #[derive(clap::Parser)]
+        struct Bench {
+            #[command(flatten)]
+            options: Options,
+        }
+        let parse = |args: &[&str]| {
+            <Bench as clap::Parser>::try_parse_from(
+                std::iter::once("bench").chain(args.iter().copied()),
+            )
+            .map(|b| b.options)
+        };
+        let o = parse(&["--sizes", "1e3,2e5", "--no-kratos"]).unwrap();
         assert_eq!(o.sizes, ["1e3", "2e5"]);
         assert!(!o.kratos);
-        assert!(parse_options(&["--fast".into()]).is_err());
-        assert!(parse_options(&["--sizes".into(), "big".into()]).is_err());
+        let d = parse(&[]).unwrap();
+        assert!(d.kratos && d.repeat == 3 && d.sizes.len() == 6);
+        assert!(parse(&["--fast"]).is_err());
+        assert!(parse(&["--sizes", "big"]).is_err());
     }
 }

@@ -27,24 +27,44 @@
 use std::process::Command;
 
 use anyhow::{Context, Result, bail};
+use clap::{Parser, Subcommand};
 
 mod bench;
 #[cfg(test)]
 mod tidy;
 
+/// Project automation for csm (`cargo xtask <command>`).
+#[derive(Debug, Parser)]
+#[command(name = "cargo xtask")]
+struct Cli {
+    #[command(subcommand)]
+    command: Task,
+}
+
+#[derive(Debug, Subcommand)]
+enum Task {
+    /// Exactly what CI runs: fmt, clippy, doc, every test, the feature matrix.
+    Ci,
+    /// The snapshot tests alone, as CI runs them.
+    Snapshots,
+    /// The feature matrix alone.
+    Features,
+    /// Regenerate the Kratos reference fixtures (needs Kratos 10.4.4 from PyPI).
+    Fixtures,
+    /// csm against Kratos on generated scenes; writes docs/performance.md.
+    Bench(bench::Options),
+    /// The full stability suite; rewrites docs/stability.md.
+    Stability,
+}
+
 fn main() -> Result<()> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    match args.first().map(String::as_str) {
-        Some("ci") => ci(),
-        Some("snapshots") => snapshots(),
-        Some("features") => features(),
-        Some("fixtures") => fixtures(),
-        Some("bench") => bench::bench(&args[1..]),
-        Some("stability") => stability(),
-        _ => {
-            eprintln!("usage: cargo xtask <ci|snapshots|features|fixtures|bench|stability>");
-            bail!("unknown or missing command")
-        }
+    match Cli::parse().command {
+        Task::Ci => ci(),
+        Task::Snapshots => snapshots(),
+        Task::Features => features(),
+        Task::Fixtures => fixtures(),
+        Task::Bench(options) => bench::bench(&options),
+        Task::Stability => stability(),
     }
 }
 
