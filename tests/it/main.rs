@@ -6,6 +6,7 @@ mod cli_plan;
 mod cli_report;
 mod cli_search;
 mod cli_steps;
+mod index_maps;
 mod kratos_conformance;
 mod kratos_search;
 mod kratos_steps;

@@ -502,3 +502,36 @@ fn kratos_mode_warns_where_its_2d_projection_drops_master_nodes() {
     assert_eq!(lost("kratos", far), 1);
     assert_eq!(lost("robust", far), 0);
 }
+
+/// The INDEX_MAP contents of every stability scene, untransformed, in both modes and with
+/// MappingCheck (`index_maps.rs` does the same for the Kratos fixtures).
+#[test]
+fn stability_index_maps() {
+    for case in cases::all() {
+        let mut text = String::new();
+        for mode in MODES {
+            let _ = writeln!(text, "## {mode}");
+            let setup = run::setup_for(&case.setup, mode, "mapping_check", Transform::Identity);
+            match run_case(&case.mdpa, &setup, None) {
+                Ok((r, _)) => {
+                    let mut by_slave: std::collections::BTreeMap<u32, Vec<u32>> =
+                        std::collections::BTreeMap::new();
+                    for (s, m) in &r.pairs {
+                        by_slave.entry(*s).or_default().push(*m);
+                    }
+                    let _ = writeln!(text, "pair 0:");
+                    for (s, ms) in by_slave {
+                        let ms: Vec<String> = ms.iter().map(u32::to_string).collect();
+                        let _ = writeln!(text, "  {s}: {}", ms.join(" "));
+                    }
+                }
+                Err(e) => {
+                    let _ = writeln!(text, "error: {}", e.lines().next().unwrap_or(""));
+                }
+            }
+        }
+        insta::with_settings!({snapshot_suffix => case.name}, {
+            insta::assert_snapshot!(text);
+        });
+    }
+}
