@@ -33,7 +33,7 @@ mod tests;
 pub use activation::{
     ActivationReport, ActivationRule, ActivationSettings, compute_active_inactive_nodes,
 };
-pub use error::Error;
+pub use error::{Error, ErrorKind};
 pub use mapping::{
     MAPPER_ABSOLUTE_TOLERANCE, MAPPER_MAX_ITERATIONS, MAPPER_RELATIVE_TOLERANCE, MappingReport,
     MappingSettings, MappingTuning, NORMAL_GAP_SENTINEL, RemovedEntry, mean_h, normal_gap_process,

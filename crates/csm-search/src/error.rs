@@ -47,6 +47,22 @@ pub enum ErrorKind {
     },
     /// The model does not fit the setup (missing parts, no slave or master conditions, …).
     Model(String),
+    /// A model-layer operation failed; its error is the [`source`](std::error::Error::source).
+    ModelData {
+        /// What csm was doing (empty: the source says it all).
+        context: String,
+        /// The model layer's error.
+        source: csm_model::Error,
+    },
+    /// A kd-tree or octree failed; its error is the source.
+    Tree {
+        /// Which tree.
+        context: String,
+        /// The tree layer's error.
+        source: csm_trees::Error,
+    },
+    /// The mapping or the weighted gap failed; its error is the source.
+    Activation(csm_activation::Error),
 }
 
 impl Error {
@@ -120,8 +136,79 @@ impl fmt::Display for Error {
                 write!(f, "condition {condition}: {message}")
             }
             ErrorKind::Model(msg) => write!(f, "{msg}"),
+            ErrorKind::ModelData { context, source } => with_context(f, context, source),
+            ErrorKind::Tree { context, source } => with_context(f, context, source),
+            ErrorKind::Activation(source) => write!(f, "{source}"),
         }
     }
 }
 
-impl std::error::Error for Error {}
+/// `<context>: <source>`, or the source alone without a context.
+fn with_context(
+    f: &mut fmt::Formatter<'_>,
+    context: &str,
+    source: &dyn fmt::Display,
+) -> fmt::Result {
+    if context.is_empty() {
+        write!(f, "{source}")
+    } else {
+        write!(f, "{context}: {source}")
+    }
+}
+
+impl std::error::Error for Error {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match &self.kind {
+            ErrorKind::ModelData { source, .. } => Some(source),
+            ErrorKind::Tree { source, .. } => Some(source),
+            ErrorKind::Activation(source) => Some(source),
+            _ => None,
+        }
+    }
+}
+
+impl Error {
+    /// A model-layer error, with what csm was doing (`""`: nothing to add).
+    pub(crate) fn model_data(context: &str, source: csm_model::Error) -> Error {
+        ErrorKind::ModelData {
+            context: context.to_owned(),
+            source,
+        }
+        .into()
+    }
+
+    /// A tree's error, naming the tree.
+    pub(crate) fn tree(context: &str, source: csm_trees::Error) -> Error {
+        ErrorKind::Tree {
+            context: context.to_owned(),
+            source,
+        }
+        .into()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::error::Error as _;
+
+    use super::{Error, ErrorKind};
+
+    /// A lower layer's error is kept whole: the message says what csm was doing and what the
+    /// layer said, and `source()` gives the layer's typed error back.
+    #[test]
+    fn lower_layer_errors_keep_their_source() {
+        let model = csm_model::ModelPart::new("Structure");
+        let missing = model.get_part("Contact").unwrap_err();
+        let e = Error::model_data("contact parts", missing.clone());
+        assert_eq!(e.to_string(), format!("contact parts: {missing}"));
+        let source = e.source().expect("a source");
+        assert_eq!(source.downcast_ref::<csm_model::Error>(), Some(&missing));
+        // Without a context the source's message alone, as before.
+        assert_eq!(
+            Error::model_data("", missing.clone()).to_string(),
+            missing.to_string()
+        );
+        // The setup's own errors have none.
+        assert!(Error::from(ErrorKind::NoContactProcess).source().is_none());
+    }
+}

@@ -100,7 +100,7 @@ fn geometry_error(model: &ModelPart, c: ConditionIdx, message: String) -> Error 
 }
 
 fn tree_error(e: csm_trees::Error) -> Error {
-    ErrorKind::Model(format!("octree of the master conditions: {e}")).into()
+    Error::tree("octree of the master conditions", e)
 }
 
 fn points_of(model: &ModelPart, c: ConditionIdx) -> Vec<Point> {

@@ -482,7 +482,7 @@ fn create_condition(
         .collect();
     let idx = model
         .add_condition(id, kind, name, &node_ids, properties)
-        .map_err(|e| Error::from(ErrorKind::Model(e.to_string())))?;
+        .map_err(|e| Error::model_data("", e))?;
     model.add_conditions_to_part(part, &[idx]);
     let slave = nodes
         .iter()

@@ -605,7 +605,7 @@ fn compute_normals(model: &mut ModelPart) -> Result<KeptFaceNormals, Error> {
                 message: source.to_string(),
             }
             .into(),
-            _ => ErrorKind::Model(e.to_string()).into(),
+            _ => Error::model_data("", e),
         })
 }
 

@@ -77,7 +77,7 @@ pub fn detect_skin(model: &mut ModelPart) -> Result<SkinReport, Error> {
     }
     let part = model
         .create_part(SKIN_PART)
-        .map_err(|e| Error::from(ErrorKind::Model(e.to_string())))?;
+        .map_err(|e| Error::model_data("", e))?;
     let mut next = model.conditions().max_id();
     let mut conditions = Vec::new();
     let mut skin_nodes = Vec::new();
@@ -94,7 +94,7 @@ pub fn detect_skin(model: &mut ModelPart) -> Result<SkinReport, Error> {
         let name = interface_condition_name(nodes.len(), kind.local_dim() == 1);
         let idx = model
             .add_condition(id, kind, name, &ids, properties)
-            .map_err(|e| Error::from(ErrorKind::Model(e.to_string())))?;
+            .map_err(|e| Error::model_data("", e))?;
         model.add_conditions_to_part(part, &[idx]);
         model.conditions_mut().flags_mut()[idx.index()].set(Flag::INTERFACE, true);
         skin_nodes.extend(nodes);

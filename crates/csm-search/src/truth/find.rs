@@ -38,7 +38,7 @@ pub(super) struct Found {
 type SlavePairs = (Vec<(ConditionIdx, ConditionIdx)>, usize);
 
 fn model_error(e: &act::Error) -> Error {
-    ErrorKind::Model(e.to_string()).into()
+    ErrorKind::Activation(e.clone()).into()
 }
 
 /// The true pairs of the ContactSub of `scene` (see the module docs of `truth`). The model's
@@ -234,8 +234,7 @@ impl Prefilter {
         } else {
             1e-9 * (all.max - all.min).norm() + 1e-300
         };
-        let tree = KdTree::new(&points, 16)
-            .map_err(|e| Error::from(ErrorKind::Model(format!("ground truth kd-tree: {e}"))))?;
+        let tree = KdTree::new(&points, 16).map_err(|e| Error::tree("ground truth kd-tree", e))?;
         let m = Vector::repeat(margin);
         Ok(Prefilter {
             tree,
@@ -305,7 +304,7 @@ impl Prefilter {
                 usize::MAX,
                 &mut found,
             )
-            .map_err(|e| Error::from(ErrorKind::Model(format!("ground truth query: {e}"))))?;
+            .map_err(|e| Error::tree("ground truth query", e))?;
         found.sort_unstable();
         for c in found {
             let b = &self.boxes[c as usize];

@@ -50,7 +50,7 @@ pub(super) fn check_pairing(
     let inverted = p.inverted_search;
     let sub = pair.sub;
     let dim = usize::from(pair.instance.dim);
-    let activation_error = |e: act::Error| Error::from(ErrorKind::Model(e.to_string()));
+    let activation_error = |e: act::Error| Error::from(ErrorKind::Activation(e));
     let mode = match compatibility {
         Compatibility::Kratos => act::MortarMode::Kratos,
         Compatibility::Robust => act::MortarMode::Robust,

@@ -59,11 +59,7 @@ pub(super) fn kdtree_search(
     };
     let centres = centres_of(&master_list);
     crate::trace::mark("master centres");
-    let tree_error = |e: csm_trees::Error| {
-        Error::from(ErrorKind::Model(format!(
-            "kd-tree of the master conditions: {e}"
-        )))
-    };
+    let tree_error = |e: csm_trees::Error| Error::tree("kd-tree of the master conditions", e);
     let new_tree = |list: Vec<u32>, centres: Vec<Point>| {
         KdTree::from_parts(list, centres, p.bucket_size, TREE_DEFER_MAX).map_err(tree_error)
     };

@@ -118,7 +118,7 @@ pub struct ContactSearch {
 }
 
 fn model_error(e: csm_model::Error) -> Error {
-    ErrorKind::Model(e.to_string()).into()
+    Error::model_data("", e)
 }
 
 /// Conditions of `part` in Kratos' container order (ascending external id).
