@@ -43,7 +43,15 @@ pub use intersection::{
 };
 pub use kdop::{KDOP18_DIRECTIONS, Kdop18};
 pub use kind::GeometryKind;
-pub use mortar::*;
+pub use mortar::{
+    CLIPPING_TOLERANCE, DUPLICATE_POINT_TOLERANCE, DualBasis, EXPLICIT_LENGTH_FACTOR, FaceMatrix,
+    MAPPER_LENGTH_FACTOR, MAX_ME_CONDITION_NUMBER, MAX_MORTAR_FACE_NODES, MortarCell, MortarFace,
+    MortarIntegrationPoint, MortarMode, MortarOperators, NEWTON_2D_MAX_ITERATIONS,
+    NEWTON_2D_TOLERANCE, OperatorSettings, ROBUST_AREA_FACTOR, Segmentation, SegmentationSettings,
+    SlaveSegmentation, dual_ae, dual_ae_in, dual_basis, dual_basis_in, exact_segmentation,
+    integration_points, integration_points_with_normals, line_projections_lost_to_rounding,
+    mortar_operators,
+};
 pub use obb::{Obb, Obb2};
 pub use projection::{fast_project, fast_project_direction};
 pub use shape::{

@@ -39,11 +39,24 @@ pub use setup::{
     OctreeSearchParameters, PairSetup, PartMotion, RigidMotion, Rotation, SearchParameters,
     SearchSetup, SearchTreeType, SetupSource, StepSetup, parse_setup,
 };
-pub use stages::*;
+pub use stages::{
+    ContactParts, GeneratedCondition, InterfaceReport, InterfaceSettings, NormalCheckReport,
+    NormalCheckSettings, PROBE_RANGE, SKIN_PART, SearchInstance, SkinReport, assign_contact_flags,
+    count_solid_elements, detect_skin, dispatch, generate_interface_conditions,
+    interface_condition_name, inversion_permutation, master_slave_from_nodes, normal_check,
+    normal_check_normals_only, normal_check_normals_only_with_normals, normal_check_with_normals,
+    simplify_split, transfer_to_contact,
+};
 mod pipeline;
 mod plan;
 mod trace;
 mod truth;
-pub use pipeline::*;
-pub use plan::*;
+pub use pipeline::{
+    ContactSearch, MappingTuning, NodeResult, PairedCondition, QueryOrder, SearchResult,
+    SearchTuning, StepResult,
+};
+pub use plan::{
+    Activation, Decision, InterfaceAction, KdQuery, NodalHSource, NodalVariable, NormalCheck,
+    PairPlan, Plan, Reason, StepJump, StepsPlan, Storage, VariablePlan, step_jump,
+};
 pub use truth::{GroundTruth, MIN_OVERLAP_RATIO, Sample, Score, TruthOptions};
