@@ -1,64 +1,33 @@
-//! A minimal axis-aligned box, the object type of the octree and the query type of the box
-//! searches.
+//! The box type of the octree's objects and of the box searches: `csm_geometry::Aabb`, the
+//! one bounding-box type of every layer, and what the trees need beside it.
+//!
+//! All tests on a box are **inclusive** (touching boxes overlap; a point on a face is inside),
+//! as Kratos' `Collides` and kd-tree box test are. Boxes with `min == max` (points) are valid.
 
-use csm_geometry::math::{Point, Real};
+use csm_geometry::math::Point;
+
+pub use csm_geometry::Aabb;
 
 use crate::error::{Error, ErrorKind, check_point};
 
-/// An axis-aligned bounding box given by its corners, `mins[k] <= maxs[k]` expected.
-///
-/// All tests on it are **inclusive** (touching boxes overlap; a point on a face is inside), as
-/// Kratos' `Collides` and kd-tree box test are. Boxes with `mins == maxs` (points) are valid.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Aabb {
-    /// The lowest corner.
-    pub mins: Point,
-    /// The highest corner.
-    pub maxs: Point,
+/// The smallest box containing all `points`; `None` when there are none.
+pub fn bounds_of<'a>(points: impl IntoIterator<Item = &'a Point>) -> Option<Aabb> {
+    let mut it = points.into_iter();
+    let first = *it.next()?;
+    let mut aabb = Aabb::new(first, first);
+    for p in it {
+        aabb.grow(p);
+    }
+    Some(aabb)
 }
 
-impl Aabb {
-    /// The box with corners `mins` and `maxs` (not checked; see [`Aabb::validate`]).
-    pub fn new(mins: Point, maxs: Point) -> Aabb {
-        Aabb { mins, maxs }
-    }
-
-    /// The smallest box containing all `points`; `None` when there are none.
-    pub fn from_points<'a>(points: impl IntoIterator<Item = &'a Point>) -> Option<Aabb> {
-        let mut it = points.into_iter();
-        let first = *it.next()?;
-        let mut aabb = Aabb::new(first, first);
-        for p in it {
-            aabb.mins = aabb.mins.inf(p);
-            aabb.maxs = aabb.maxs.sup(p);
-        }
-        Some(aabb)
-    }
-
-    /// Checks that the corners are finite and `mins <= maxs` on every axis.
-    pub fn validate(&self) -> Result<(), Error> {
-        check_point(&self.mins, "box corner")?;
-        check_point(&self.maxs, "box corner")?;
-        if (0..3).all(|k| self.mins[k] <= self.maxs[k]) {
-            Ok(())
-        } else {
-            Err(Error::new(ErrorKind::InvertedBox))
-        }
-    }
-
-    /// Whether the two boxes overlap or touch (inclusive on every axis; symmetric).
-    pub fn intersects(&self, other: &Aabb) -> bool {
-        (0..3).all(|k| self.mins[k] <= other.maxs[k] && other.mins[k] <= self.maxs[k])
-    }
-
-    /// Whether `p` lies in the box, faces included: `mins[k] <= p[k] <= maxs[k]` for all `k`.
-    pub fn contains_point(&self, p: &Point) -> bool {
-        (0..3).all(|k| self.mins[k] <= p[k] && p[k] <= self.maxs[k])
-    }
-
-    /// The box grown by `margin` on every side (shrunk when `margin < 0`).
-    pub fn loosened(&self, margin: Real) -> Aabb {
-        let m = csm_geometry::math::Vector::repeat(margin);
-        Aabb::new(self.mins - m, self.maxs + m)
+/// Checks that the corners are finite and `min <= max` on every axis.
+pub(crate) fn validate(aabb: &Aabb) -> Result<(), Error> {
+    check_point(&aabb.min, "box corner")?;
+    check_point(&aabb.max, "box corner")?;
+    if (0..3).all(|k| aabb.min[k] <= aabb.max[k]) {
+        Ok(())
+    } else {
+        Err(Error::new(ErrorKind::InvertedBox))
     }
 }

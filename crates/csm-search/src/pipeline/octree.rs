@@ -114,11 +114,11 @@ enum CellTest<'p> {
     /// Kratos' `IsIntersected`: segment/box, triangle/box.
     Pieces(&'p [Piece]),
     /// Robust with OBBs: the AABB of the condition's OBB.
-    Box(csm_trees::Aabb),
+    Box(csm_geometry::Aabb),
 }
 
 impl CellTest<'_> {
-    fn overlaps(&self, cell: &csm_trees::Aabb) -> bool {
+    fn overlaps(&self, cell: &csm_geometry::Aabb) -> bool {
         match self {
             CellTest::Pieces(p) => overlaps_cell(p, cell),
             CellTest::Box(b) => cell.intersects(b),
@@ -157,19 +157,17 @@ impl Search<'_> {
         &self,
         model: &ModelPart,
         c: ConditionIdx,
-    ) -> Result<Option<(CellTest<'_>, csm_trees::Aabb)>, Error> {
+    ) -> Result<Option<(CellTest<'_>, csm_geometry::Aabb)>, Error> {
         if self.robust && self.bbf > 0.0 {
             let aabb = match self.bv(model, c)? {
                 Bv::D2(o) => o.aabb(),
                 Bv::D3(o) => o.aabb(),
             };
-            let aabb = csm_trees::Aabb::new(aabb.min, aabb.max);
             return Ok(Some((CellTest::Box(aabb), aabb)));
         }
         let coords = model.nodes().coordinates();
         let nodes = model.conditions().nodes(c.index());
-        let Some(aabb) = csm_trees::Aabb::from_points(nodes.iter().map(|n| &coords[n.index()]))
-        else {
+        let Some(aabb) = csm_trees::bounds_of(nodes.iter().map(|n| &coords[n.index()])) else {
             return Ok(None);
         };
         Ok(self.pieces(model, c).map(|p| (CellTest::Pieces(p), aabb)))

@@ -849,7 +849,7 @@ fn the_order_of_the_slave_queries_does_not_change_the_step() {
             Point::from(sum / nodes.len() as f64)
         })
         .collect();
-    let bounds = csm_trees::Aabb::from_points(&centres);
+    let bounds = csm_trees::bounds_of(&centres);
     let far = super::search::Far::new(bounds, 1.0);
     let (mut n_far, mut n_near) = (0, 0);
     for &c in model.part(slave).conditions() {

@@ -12,7 +12,7 @@ pub fn in_box<T: Copy>(entries: &[(T, Point)], min: &Point, max: &Point, out: &m
     out.extend(
         entries
             .iter()
-            .filter(|(_, p)| aabb.contains_point(p))
+            .filter(|(_, p)| aabb.contains(p))
             .map(|(item, _)| *item),
     );
 }

@@ -363,7 +363,7 @@ fn queries_missing_the_extent_find_nothing_and_agree_with_brute_force() {
     let extent = tree.bounds().unwrap();
     assert_eq!(
         Some(extent),
-        crate::Aabb::from_points(cloud.iter().map(|(_, x)| x)),
+        crate::bounds_of(cloud.iter().map(|(_, x)| x)),
         "the stored extent is the points' box"
     );
     let (mut got, mut want) = (Vec::new(), Vec::new());

@@ -278,7 +278,7 @@ impl<T: Copy + Send> KdTree<T> {
         );
         self.root = root;
         self.deferred = (0..n_deferred).map(|_| OnceLock::new()).collect();
-        self.extent = Aabb::from_points(self.points.iter());
+        self.extent = crate::bounds_of(self.points.iter());
     }
 
     /// Builds every deferred subtree that no query has built yet and puts them all in place:

@@ -28,7 +28,7 @@ impl<T: Copy> Octree<T> {
         aabb: &Aabb,
         mut overlaps: impl FnMut(&Aabb) -> bool,
     ) -> Result<(), Error> {
-        aabb.validate()?;
+        crate::aabb::validate(aabb)?;
         // The leaves are collected first (read-only walk), then filled.
         let mut hits = Vec::new();
         self.for_each_intersected_leaf(aabb, &mut overlaps, |leaf| hits.push(leaf));

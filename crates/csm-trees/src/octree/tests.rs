@@ -46,8 +46,8 @@ fn insert_point_refines_to_the_min_level() {
     assert_eq!(leaves.len(), 1);
     let leaf = octree.leaf_aabb(leaves[0]);
     assert_eq!(octree.leaf_level(leaves[0]), 2);
-    assert!(leaf.contains_point(&point));
-    let size = leaf.maxs - leaf.mins;
+    assert!(leaf.contains(&point));
+    let size = leaf.max - leaf.min;
     assert!((size.x - 8.0 / 512.0).abs() < 1e-12);
     assert!((size.y - 4.0 / 512.0).abs() < 1e-12);
     assert!((size.z - 2.0 / 512.0).abs() < 1e-12);
@@ -67,7 +67,7 @@ fn leaves_come_in_kratos_stack_order() {
     octree
         .intersected_leaves(&cube(0.0, 2.0), &mut leaves)
         .unwrap();
-    let mins: Vec<Point> = leaves.iter().map(|l| octree.leaf_aabb(*l).mins).collect();
+    let mins: Vec<Point> = leaves.iter().map(|l| octree.leaf_aabb(*l).min).collect();
     let expected: Vec<Point> = (0..8u32)
         .rev()
         .map(|i| {
@@ -166,7 +166,7 @@ fn insert_with_uses_the_callers_test() {
     // Only the leaves whose centre has x > 1 accept the object.
     let aabb = cube(0.5, 1.5);
     octree
-        .insert_with(5u32, &aabb, |cell| cell.mins.x + cell.maxs.x > 2.0)
+        .insert_with(5u32, &aabb, |cell| cell.min.x + cell.max.x > 2.0)
         .unwrap();
     let mut leaves = Vec::new();
     octree.intersected_leaves(&aabb, &mut leaves).unwrap();
@@ -176,7 +176,7 @@ fn insert_with_uses_the_callers_test() {
         .filter(|l| !octree.leaf_items(*l).is_empty())
         .collect();
     assert_eq!(holding.len(), 4);
-    assert!(holding.iter().all(|l| octree.leaf_aabb(*l).mins.x == 1.0));
+    assert!(holding.iter().all(|l| octree.leaf_aabb(*l).min.x == 1.0));
     octree
         .intersected_leaves_with(&aabb, |_| false, &mut leaves)
         .unwrap();
@@ -215,7 +215,7 @@ fn walk_then_store_is_insert_with() {
             (i, Aabb::new(c - Vector::repeat(h), c + Vector::repeat(h)))
         })
         .collect();
-    let test = |cell: &Aabb| cell.mins.x + cell.mins.y < 0.8;
+    let test = |cell: &Aabb| cell.min.x + cell.min.y < 0.8;
     let mut one_by_one = new();
     for (item, aabb) in &objects {
         one_by_one.insert_with(*item, aabb, test).unwrap();

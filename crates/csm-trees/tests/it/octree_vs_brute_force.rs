@@ -33,7 +33,7 @@ fn unit_box() -> impl Strategy<Value = Aabb> {
 }
 
 fn scaled(aabb: &Aabb, scale: Real, shift: &Vector) -> Aabb {
-    Aabb::new(aabb.mins * scale + shift, aabb.maxs * scale + shift)
+    Aabb::new(aabb.min * scale + shift, aabb.max * scale + shift)
 }
 
 /// Checks the three box queries of `octree` for `query` against the oracle over `objects`.
@@ -76,11 +76,11 @@ fn check_query(octree: &Octree<usize>, objects: &[(usize, Aabb)], query: &Aabb) 
             octree.leaf_items(*l).contains(item)
                 && octree
                     .leaf_aabb(*l)
-                    .loosened(2.0 * tolerance)
+                    .enlarged(2.0 * tolerance)
                     .intersects(object)
                 && octree
                     .leaf_aabb(*l)
-                    .loosened(2.0 * tolerance)
+                    .enlarged(2.0 * tolerance)
                     .intersects(query)
         });
         assert!(
@@ -107,7 +107,7 @@ proptest! {
             scale,
             &shift,
         );
-        let mut octree = Octree::new(root.mins, root.maxs, OctreeParams::default()).unwrap();
+        let mut octree = Octree::new(root.min, root.max, OctreeParams::default()).unwrap();
         for p in &refine {
             octree.insert_point(&(p * scale + shift)).unwrap();
         }

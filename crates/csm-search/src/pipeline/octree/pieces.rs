@@ -65,8 +65,8 @@ pub(super) fn linear_pieces(
 
 /// Kratos' `IsIntersected`: does any piece meet the leaf box `cell` (real coordinates, already
 /// grown by the cell tolerance)? Segment/box by slabs, triangle/box by Akenine-Möller.
-pub(super) fn overlaps_cell(pieces: &[Piece], cell: &csm_trees::Aabb) -> bool {
-    let aabb = csm_geometry::Aabb::new(cell.mins, cell.maxs);
+pub(super) fn overlaps_cell(pieces: &[Piece], cell: &csm_geometry::Aabb) -> bool {
+    let aabb = csm_geometry::Aabb::new(cell.min, cell.max);
     pieces.iter().any(|piece| match piece {
         Piece::Segment(a, b) => segment_aabb_intersect(a, b, &aabb),
         Piece::Triangle(t) => triangle_aabb_intersect(t, &aabb),

@@ -4,6 +4,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use csm_geometry::Aabb;
 use csm_geometry::math::{EPS, Point, Real, Vector};
 use csm_geometry::{Geometry, Kdop18};
 use csm_model::{
@@ -11,7 +12,7 @@ use csm_model::{
     PartIdx, ScalarVar, UnitNormalsSnapshot, VectorVar, assign_nodal_h, compute_unit_normals,
     compute_unit_normals_from_kept,
 };
-use csm_trees::{Aabb, KdTree};
+use csm_trees::KdTree;
 use rayon::prelude::*;
 
 use super::candidates::{Bv, Candidate, PerMaster, QueryContext, QueryScratch, slave_candidates};

@@ -52,8 +52,8 @@ impl Far {
     /// taken to stay far from the tree's points.
     pub(crate) fn is_far(&self, centre: &Point, radius: Real) -> bool {
         self.bounds.is_some_and(|b| {
-            let outside = (b.mins - centre)
-                .sup(&(centre - b.maxs))
+            let outside = (b.min - centre)
+                .sup(&(centre - b.max))
                 .sup(&Vector::zeros());
             outside.norm() > self.factor * radius
         })

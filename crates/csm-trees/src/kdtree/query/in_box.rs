@@ -71,7 +71,7 @@ impl<T: Copy + Send> BoxSearch<'_, T> {
                     .iter()
                     .zip(&self.arena.points[start..end])
                 {
-                    if self.aabb.contains_point(p) {
+                    if self.aabb.contains(p) {
                         if self.out.len() >= self.max_results {
                             return ControlFlow::Break(());
                         }
@@ -89,10 +89,10 @@ impl<T: Copy + Send> BoxSearch<'_, T> {
                 ..
             } => {
                 let axis = axis as usize;
-                if self.aabb.mins[axis] <= left_max {
+                if self.aabb.min[axis] <= left_max {
                     self.visit(left)?;
                 }
-                if self.aabb.maxs[axis] >= right_min {
+                if self.aabb.max[axis] >= right_min {
                     self.visit(right)?;
                 }
                 ControlFlow::Continue(())

@@ -137,10 +137,10 @@ impl<T: Copy + Send> RadiusSearch<'_, T> {
 pub(crate) fn box_distance2(aabb: &Aabb, c: &Point) -> Real {
     let mut sum = 0.0;
     for k in 0..3 {
-        let d = if c[k] < aabb.mins[k] {
-            aabb.mins[k] - c[k]
-        } else if c[k] > aabb.maxs[k] {
-            c[k] - aabb.maxs[k]
+        let d = if c[k] < aabb.min[k] {
+            aabb.min[k] - c[k]
+        } else if c[k] > aabb.max[k] {
+            c[k] - aabb.max[k]
         } else {
             0.0
         };

@@ -31,7 +31,7 @@ impl<T> Octree<T> {
         out: &mut Vec<LeafId>,
     ) -> Result<(), Error> {
         out.clear();
-        aabb.validate()?;
+        crate::aabb::validate(aabb)?;
         self.for_each_intersected_leaf(aabb, &mut overlaps, |leaf| out.push(LeafId(leaf)));
         Ok(())
     }
@@ -44,8 +44,8 @@ impl<T> Octree<T> {
         mut emit: impl FnMut(u32),
     ) {
         let tolerance = self.params.cell_tolerance();
-        let lo = self.normalize(&aabb.mins);
-        let hi = self.normalize(&aabb.maxs);
+        let lo = self.normalize(&aabb.min);
+        let hi = self.normalize(&aabb.max);
         let range_cell = self.range_cell(&lo, &hi);
 
         let mut stack = [0u32; STACK];
@@ -67,7 +67,7 @@ impl<T> Octree<T> {
                 None => {
                     let (low, high) = self.cell_box_normalized(cell);
                     let leaf_box =
-                        Aabb::new(self.scale_back(low), self.scale_back(high)).loosened(tolerance);
+                        Aabb::new(self.scale_back(low), self.scale_back(high)).enlarged(tolerance);
                     if overlaps(&leaf_box) {
                         emit(cell);
                     }

@@ -32,7 +32,7 @@ impl<T: Copy> Octree<T> {
     /// Errors: [`crate::ErrorKind::NonFinite`], [`crate::ErrorKind::InvertedBox`].
     pub fn query_aabb_per_leaf(&self, aabb: &Aabb, out: &mut Vec<T>) -> Result<(), Error> {
         out.clear();
-        aabb.validate()?;
+        crate::aabb::validate(aabb)?;
         let query = *aabb;
         self.for_each_intersected_leaf(aabb, &mut |cell: &Aabb| cell.intersects(&query), |leaf| {
             out.extend_from_slice(&self.cells[leaf as usize].objects)
