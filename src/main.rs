@@ -172,14 +172,14 @@ fn run(cli: Cli) -> Result<(), String> {
             progress.finish();
             let mut model = model.map_err(|e| e.to_string())?;
             let read = start.elapsed().as_secs_f64();
-            logger::info(format_args!(
+            tracing::info!(target: "csm",
                 "read {}: {read:.3} s; {} nodes, {} elements, {} conditions, {} parts",
                 mesh.display(),
                 model.nodes().len(),
                 model.elements().len(),
                 model.conditions().len(),
                 model.parts().len()
-            ));
+            );
             let setup = csm::cli::setup_for(setup.as_deref(), &model)?;
             let options = RunOptions {
                 progress: csm::cli::progress_wanted(quiet),
@@ -191,7 +191,7 @@ fn run(cli: Cli) -> Result<(), String> {
             }
             if let Some(path) = &vtk {
                 csm::cli::write_search_vtu(&model, &result, path)?;
-                logger::info(format_args!("wrote {}", path.display()));
+                tracing::info!(target: "csm", "wrote {}", path.display());
             }
             if !quiet {
                 let steps = match result.steps.len() {
@@ -271,14 +271,14 @@ fn run(cli: Cli) -> Result<(), String> {
             progress.finish();
             let mut scene = scene?;
             let read = start.elapsed().as_secs_f64();
-            logger::info(format_args!(
+            tracing::info!(target: "csm",
                 "built the demo scene: {read:.3} s; {} nodes, {} elements, {} slave and {} \
                  master faces",
                 scene.model.nodes().len(),
                 scene.model.elements().len(),
                 scene.n_slave_faces,
                 scene.n_master_faces
-            ));
+            );
             let setup = csm::cli::default_setup(&scene.model)?;
             let options = RunOptions {
                 progress: csm::cli::progress_wanted(quiet),

@@ -10,8 +10,6 @@ use csm_search::{
     Compatibility, ContactSearch, GroundTruth, Sample, Score, SearchSetup, SearchTreeType,
 };
 
-use crate::cli::logger;
-
 /// The sweep and the sampling of a report.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ReportOptions {
@@ -217,13 +215,13 @@ pub fn run_report(
         let start = Instant::now();
         let truth = GroundTruth::compute(model, &s, key, sample).map_err(|e| e.to_string())?;
         let seconds = start.elapsed().as_secs_f64();
-        logger::info(format_args!(
+        tracing::info!(target: "csm",
             "ground truth ({}): {} true pairs over {} slave faces, {} segmentations, {seconds:.3} s",
             if simple { "simple" } else { "advanced" },
             truth.n_pairs(),
             truth.pairs.len(),
             truth.overlap_tests
-        ));
+        );
         truths.push(TruthSummary { truth, seconds });
     }
     let all = strategies(options, sf0, bbf0);
@@ -296,7 +294,7 @@ fn run_strategy(
     row.score = result
         .map(|r| truth.truth.score(&r))
         .map_err(|e| e.to_string());
-    logger::debug(format_args!(
+    tracing::debug!(target: "csm",
         "{} {} {} sf {} bbf {}: {:.3} s",
         strategy.type_search.name(),
         strategy.activation(),
@@ -304,7 +302,7 @@ fn run_strategy(
         strategy.search_factor,
         strategy.bounding_box_factor,
         row.search_s
-    ));
+    );
     row
 }
 

@@ -8,7 +8,6 @@ use std::time::Instant;
 use csm_model::ModelPart;
 use csm_search::{ContactSearch, Plan, SearchResult, SearchSetup, StepResult, parse_setup};
 
-use crate::cli::logger;
 use crate::cli::progress::Progress;
 
 /// Wall times of the phases of a run, in seconds (RESULT.json `timings_s`).
@@ -120,23 +119,23 @@ pub fn run_search_with(
     read: f64,
     options: RunOptions,
 ) -> Result<(SearchResult, Timings), String> {
-    logger::debug(format_args!(
+    tracing::debug!(target: "csm",
         "setup: pairs {:?}, compatibility {:?}, {} rayon threads",
         setup.pairs.keys().collect::<Vec<_>>(),
         setup.compatibility,
         rayon::current_num_threads()
-    ));
+    );
     let start = Instant::now();
     let progress = Progress::start("initializing", options.progress);
     let search = ContactSearch::initialize(model, setup);
     progress.finish();
     let mut search = search.map_err(|e| e.to_string())?;
     let initialize = start.elapsed().as_secs_f64();
-    logger::info(format_args!(
+    tracing::info!(target: "csm",
         "initialize: {initialize:.3} s ({} nodes, {} conditions after the interface generation)",
         model.nodes().len(),
         model.conditions().len()
-    ));
+    );
     let start = Instant::now();
     let mut search_time = 0.0;
     let result = if setup.steps.is_empty() {
@@ -188,7 +187,7 @@ pub fn run_search_with(
 
 fn log_step(step: Option<u32>, seconds: f64, result: &SearchResult) {
     let label = step.map_or(String::new(), |k| format!(" (step {k})"));
-    logger::info(format_args!(
+    tracing::info!(target: "csm",
         "search{label}: {seconds:.3} s; {} slave conditions, {} pairs, {} paired conditions, {} \
          active nodes, {} warnings",
         result.pairs.values().map(|m| m.len()).sum::<usize>(),
@@ -196,5 +195,5 @@ fn log_step(step: Option<u32>, seconds: f64, result: &SearchResult) {
         result.paired_conditions,
         result.nodes.values().filter(|n| n.active).count(),
         result.warnings.len()
-    ));
+    );
 }

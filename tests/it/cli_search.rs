@@ -372,3 +372,34 @@ fn bad_setups_are_clear_errors() {
         "no part named `slave` (any case)",
     );
 }
+
+/// `RUST_LOG` drives the log through `tracing`: the phases at `info`, the stage trace of the
+/// search layer at `csm::stages=debug`; the default (`warn`) prints neither.
+#[test]
+fn rust_log_selects_phases_and_the_stage_trace() {
+    let mesh = repo_mesh("boxes_41_ascii.msh");
+    let run = |rust_log: Option<&str>| {
+        let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_csm"));
+        cmd.args(["search", mesh.to_str().unwrap(), "-o"])
+            .arg(scratch("rust_log_result.json"))
+            .arg("--quiet")
+            .env_remove("RUST_LOG");
+        if let Some(v) = rust_log {
+            cmd.env("RUST_LOG", v);
+        }
+        let out = cmd.output().expect("csm runs");
+        assert!(out.status.success());
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    assert_eq!(run(None), "");
+    let info = run(Some("info"));
+    assert!(
+        info.contains("INFO initialize:") && !info.contains("stage "),
+        "{info}"
+    );
+    let stages = run(Some("csm::stages=debug"));
+    assert!(
+        stages.contains("DEBUG stage normal check") && !stages.contains("INFO"),
+        "{stages}"
+    );
+}
