@@ -259,20 +259,28 @@ def paired_from_computing(model_part, by_nodes):
 # ----------------------------------------------------------------------------------------------
 # Python path: ALMContactProcess
 # ----------------------------------------------------------------------------------------------
+def create_concrete_search(process, key):
+    """The search the wrapper would build, as its concrete class (so that CheckMortarConditions
+    exists), for a process of SearchBaseProcess; False when Contact has no condition to choose
+    a class from (the caller then lets Kratos' own wrapper raise)."""
+    if process.main_model_part.GetSubModelPart("Contact").NumberOfConditions() == 0:
+        process.concrete_class_name = "ContactSearchProcess"
+        return False
+    params, simple = wrapper_parameters(process._create_search_parameters(key))
+    predefined = params["predefined_master_slave"].GetBool()
+    cls = concrete_class(process.main_model_part, simple, process.dimension, predefined)
+    process.concrete_class_name = cls.__name__
+    process.search_utility_list[key] = cls(process.main_model_part, params, process._get_properties_pair(key))
+    return True
+
+
 class HarnessALMContactProcess(alm_contact_process.ALMContactProcess):
     """ALMContactProcess whose search is the concrete class (so CheckMortarConditions exists)."""
 
     def _create_main_search(self, key="0"):
-        if self.main_model_part.GetSubModelPart("Contact").NumberOfConditions() == 0:
-            # Nothing to choose a class from (skin detection loses the skin): Kratos' own
-            # wrapper, which raises as Kratos does.
-            self.concrete_class_name = "ContactSearchProcess"
-            return super()._create_main_search(key)
-        params, simple = wrapper_parameters(self._create_search_parameters(key))
-        predefined = params["predefined_master_slave"].GetBool()
-        cls = concrete_class(self.main_model_part, simple, self.dimension, predefined)
-        self.concrete_class_name = cls.__name__
-        self.search_utility_list[key] = cls(self.main_model_part, params, self._get_properties_pair(key))
+        # Skin detection loses the skin (Contact empty): Kratos' own wrapper, which raises.
+        if not create_concrete_search(self, key):
+            super()._create_main_search(key)
 
 
 def flag_value(entity, flag):
@@ -389,11 +397,8 @@ class HarnessMeshTyingProcess(mesh_tying_process.MeshTyingProcess):
     """MeshTyingProcess whose search is the concrete class (so CheckMortarConditions exists)."""
 
     def _create_main_search(self, key="0"):
-        params, simple = wrapper_parameters(self._create_search_parameters(key))
-        predefined = params["predefined_master_slave"].GetBool()
-        cls = concrete_class(self.main_model_part, simple, self.dimension, predefined)
-        self.concrete_class_name = cls.__name__
-        self.search_utility_list[key] = cls(self.main_model_part, params, self._get_properties_pair(key))
+        if not create_concrete_search(self, key):
+            super()._create_main_search(key)
 
 
 # The nodal variables and degrees of freedom a mortar solver adds: the ALM ones, the vector
