@@ -25,6 +25,8 @@
 
 #[cfg(feature = "activation")]
 pub use csm_activation as activation;
+#[cfg(feature = "eval")]
+pub use csm_eval as eval;
 #[cfg(feature = "geometry")]
 pub use csm_geometry as geometry;
 #[cfg(any(feature = "msh", feature = "mdpa", feature = "vtk"))]

@@ -245,7 +245,7 @@ fn run(cli: Cli) -> Result<(), String> {
             let defaults = csm::cli::ReportOptions::default();
             let options = csm::cli::ReportOptions {
                 sample_limit,
-                sample: csm::search::Sample {
+                sample: csm::eval::Sample {
                     size: sample_size,
                     ..defaults.sample
                 },

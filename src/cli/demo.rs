@@ -18,12 +18,13 @@
 
 use std::fmt::Write as _;
 
+use csm_eval::{GroundTruth, Sample, Score};
 use csm_geometry::GeometryKind;
 use csm_geometry::math::{Point, Real, Vector};
 use csm_model::{
     ConditionId, ConditionIdx, ElementId, ElementIdx, ModelPart, NodeId, NodeIdx, PropertiesId,
 };
-use csm_search::{GroundTruth, Sample, Score, SearchResult, SearchSetup};
+use csm_search::{SearchResult, SearchSetup};
 
 use crate::cli::Timings;
 

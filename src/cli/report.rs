@@ -1,14 +1,13 @@
 //! `csm report`: error against run time for every search strategy, measured against the
-//! exhaustive ground truth ([`csm_search::GroundTruth`]); written as a Markdown table and an
+//! exhaustive ground truth ([`csm_eval::GroundTruth`]); written as a Markdown table and an
 //! SVG chart with the Pareto front (`docs/report.md` explains the metrics).
 
 use std::fmt::Write as _;
 use std::time::Instant;
 
+use csm_eval::{GroundTruth, Sample, Score};
 use csm_model::{Flag, ModelPart};
-use csm_search::{
-    Compatibility, ContactSearch, GroundTruth, Sample, Score, SearchSetup, SearchTreeType,
-};
+use csm_search::{Compatibility, ContactSearch, SearchSetup, SearchTreeType};
 
 /// The sweep and the sampling of a report.
 #[derive(Debug, Clone, PartialEq)]

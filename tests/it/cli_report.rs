@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use csm::search::{GroundTruth, TruthOptions};
+use csm::eval::{GroundTruth, TruthOptions};
 
 use crate::{csm, repo_mesh, scratch};
 

@@ -117,13 +117,14 @@ fn ci() -> Result<()> {
 
 /// The facade's features, each checked alone (`cli` is the default set, which the workspace
 /// clippy run checks).
-const FACADE_FEATURES: [&str; 10] = [
+const FACADE_FEATURES: [&str; 11] = [
     "",
     "geometry",
     "trees",
     "model",
     "activation",
     "search",
+    "eval",
     "msh",
     "mdpa",
     "vtk",

@@ -9,7 +9,7 @@ use super::workspace_root;
 
 /// The csm crates each crate may depend on (normal, build and dev dependencies alike).
 /// DESIGN.md §1: geometry ← trees; geometry ← model ← io; {geometry, model} ← activation;
-/// {geometry, trees, model, activation} ← search; everything ← facade.
+/// {geometry, trees, model, activation} ← search ← eval; everything ← facade.
 fn allowed() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
     let all = [
         "csm-geometry",
@@ -18,6 +18,7 @@ fn allowed() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
         "csm-io",
         "csm-search",
         "csm-activation",
+        "csm-eval",
     ];
     BTreeMap::from([
         ("csm-geometry", BTreeSet::new()),
@@ -31,6 +32,16 @@ fn allowed() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
         (
             "csm-search",
             BTreeSet::from(["csm-geometry", "csm-trees", "csm-model", "csm-activation"]),
+        ),
+        (
+            "csm-eval",
+            BTreeSet::from([
+                "csm-geometry",
+                "csm-trees",
+                "csm-model",
+                "csm-activation",
+                "csm-search",
+            ]),
         ),
         ("csm", BTreeSet::from(all)),
     ])

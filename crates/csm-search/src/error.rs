@@ -169,7 +169,7 @@ impl std::error::Error for Error {
 
 impl Error {
     /// A model-layer error, with what csm was doing (`""`: nothing to add).
-    pub(crate) fn model_data(context: &str, source: csm_model::Error) -> Error {
+    pub fn model_data(context: &str, source: csm_model::Error) -> Error {
         ErrorKind::ModelData {
             context: context.to_owned(),
             source,
@@ -178,7 +178,7 @@ impl Error {
     }
 
     /// A tree's error, naming the tree.
-    pub(crate) fn tree(context: &str, source: csm_trees::Error) -> Error {
+    pub fn tree(context: &str, source: csm_trees::Error) -> Error {
         ErrorKind::Tree {
             context: context.to_owned(),
             source,

@@ -13,12 +13,11 @@
 //! No/Direct/MappingCheck pairing (stage 8) with the mortar pruning, gap and activation of
 //! `csm-activation`, dynamic and inverted search, the octree path, and multi-step runs
 //! ([`ContactSearch::advance`]: the time step and the rigid motions of SETUP.json `steps`,
-//! `docs/steps.md`). Not yet: self-contact (roles not predefined; Kratos 10.4.4 fails there
-//! too, Q47).
+//! `docs/steps.md`), roles decided automatically (self-contact) and the skin when no part is
+//! named (robust mode).
 //!
-//! [`GroundTruth`] finds the exact pair set and gap of a scene exhaustively (robust mortar
-//! segmentation of every slave × master pair behind a conservative prefilter) and
-//! [`GroundTruth::score`] measures a search against it (the error-vs-run-time report).
+//! The evaluation layer (`csm-eval`: the exact ground truth and the scores) drives a search
+//! through [`ContactSearch::step_with_pairs`], [`TruthScene`] and [`passes_orientation`].
 //!
 //! [`Plan`] says which stages run and which structures are built for a model and a setup, and
 //! why each other one is left out (`csm plan`); [`ContactSearch`] makes the same plan and
@@ -49,14 +48,13 @@ pub use stages::{
 };
 mod pipeline;
 mod plan;
+pub mod scenes;
 mod trace;
-mod truth;
 pub use pipeline::{
     ContactSearch, MappingTuning, NodeResult, PairedCondition, QueryOrder, SearchResult,
-    SearchTuning, StepResult,
+    SearchTuning, StepResult, TruthScene, passes_orientation,
 };
 pub use plan::{
     Activation, Decision, InterfaceAction, KdQuery, NodalHSource, NodalVariable, NormalCheck,
     PairPlan, Plan, Reason, StepJump, StepsPlan, Storage, VariablePlan, step_jump,
 };
-pub use truth::{GroundTruth, MIN_OVERLAP_RATIO, Sample, Score, TruthOptions};

@@ -22,10 +22,11 @@ mod shared_conditions;
 mod step_jump;
 mod tuning;
 
-pub(crate) use filters::passes_orientation;
+pub use filters::passes_orientation;
 pub use result::{NodeResult, SearchResult, StepResult};
+pub use search::TruthScene;
+pub(crate) use search::locate;
 pub use search::{ContactSearch, PairedCondition};
-pub(crate) use search::{TruthScene, locate};
 #[cfg(test)]
 pub(crate) use search::{by_slave, morton_order};
 pub use tuning::{MappingTuning, QueryOrder, SearchTuning};

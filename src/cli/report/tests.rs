@@ -1,6 +1,6 @@
 //! Unit tests of the report's helpers.
 
-use csm_search::GroundTruth;
+use csm_eval::GroundTruth;
 
 use super::*;
 

@@ -245,16 +245,16 @@ fn evaluate(case: &Case) -> Vec<Row> {
     rows
 }
 
-/// The ground truth (`csm_search::GroundTruth`: exhaustive exact pairs and gaps, robust
+/// The ground truth (`csm_eval::GroundTruth`: exhaustive exact pairs and gaps, robust
 /// MappingCheck) of the untransformed case.
-fn ground_truth(case: &Case) -> Result<csm::search::GroundTruth, String> {
+fn ground_truth(case: &Case) -> Result<csm::eval::GroundTruth, String> {
     let mut model = csm::io::read_mdpa(&case.mdpa, case.name).map_err(|e| e.to_string())?;
     if let Some(edit) = case.edit {
         edit(&mut model);
     }
     let setup = run::setup_for(&case.setup, "robust", "mapping_check", Transform::Identity);
     let setup = csm::cli::load_setup(&setup.to_string(), "SETUP.json")?;
-    csm::search::GroundTruth::compute(&model, &setup, 0, None).map_err(|e| e.to_string())
+    csm::eval::GroundTruth::compute(&model, &setup, 0, None).map_err(|e| e.to_string())
 }
 
 fn evaluated(full: bool) -> &'static [(Case, Vec<Row>)] {

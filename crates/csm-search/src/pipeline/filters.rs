@@ -6,7 +6,7 @@ use csm_geometry::math::{Real, Vector};
 /// `CheckGeometricalObject`'s order-independent part: a condition never pairs with itself, and
 /// two faces whose centre normals differ by less than `1e-16 + normal_orientation_threshold`
 /// (`|n_A − n_B|`) look the same way and cannot be in contact.
-pub(crate) fn passes_orientation(
+pub fn passes_orientation(
     slave_id: u32,
     master_id: u32,
     slave_normal: &Vector,

@@ -237,13 +237,13 @@ impl ContactSearch {
         Ok(())
     }
 
-    /// The ground truth's step ([`crate::GroundTruth`]): [`ContactSearch::step`] for pair
+    /// The ground truth's step (`csm_eval::GroundTruth`, the evaluation layer): [`ContactSearch::step`] for pair
     /// `key` alone, with the broad and narrow phases replaced by `find`, which is given the
     /// model after the unit normals of ContactSub are computed (the normals the orientation
     /// filter reads) and returns the (slave, master) pairs to put in the INDEX_MAPs; then
     /// MappingCheck's CheckPairing runs as usual (mortar mapping, paired conditions, weighted
     /// gap, activation). Requires a MappingCheck pair and no dynamic search.
-    pub(crate) fn step_with_pairs<F>(
+    pub fn step_with_pairs<F>(
         &mut self,
         model: &mut ModelPart,
         key: u32,
@@ -451,7 +451,7 @@ pub(crate) fn locate(e: Error, setup: &SearchSetup) -> Error {
 /// What the ground truth's pair finder is told about the pair it searches
 /// ([`ContactSearch::step_with_pairs`]).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct TruthScene {
+pub struct TruthScene {
     /// `Contact.ContactSub<key>`.
     pub sub: PartIdx,
     /// `inverted_search`: the slave side is the conditions with `SLAVE == false`.

@@ -10,10 +10,9 @@ use csm_model::{ConditionIdx, Flag, ModelPart};
 use csm_trees::KdTree;
 use rayon::prelude::*;
 
-use super::compute::{MIN_OVERLAP_RATIO, Sample};
-use crate::error::{Error, ErrorKind};
-use crate::pipeline::TruthScene;
-use crate::pipeline::passes_orientation;
+use csm_search::{Error, ErrorKind, TruthScene, passes_orientation};
+
+use crate::compute::{MIN_OVERLAP_RATIO, Sample};
 
 /// What [`find_true_pairs`] is asked to do.
 pub(super) struct FindOptions {

@@ -5,9 +5,10 @@
 use csm_geometry::math::{Point, Real, Vector};
 use csm_model::ModelPart;
 
+use csm_search::scenes::{plates, plates_setup as setup};
+use csm_search::{ContactSearch, SearchSetup, SearchTreeType};
+
 use super::*;
-use crate::pipeline::tests::{plates, setup};
-use crate::{ContactSearch, SearchSetup, SearchTreeType};
 
 const H: Real = 0.25;
 

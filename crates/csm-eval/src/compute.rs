@@ -1,15 +1,16 @@
 //! [`GroundTruth::compute`]: the robust pipeline with the broad and narrow phases replaced by
-//! the exhaustive search of [`super::find`].
+//! the exhaustive search of [`crate::find`].
 
 use std::collections::{BTreeMap, BTreeSet};
 
 use csm_geometry::math::Real;
 use csm_model::{Flag, ModelPart};
 
-use super::find::{FindOptions, find_true_pairs};
-use crate::error::{Error, ErrorKind};
-use crate::pipeline::{ContactSearch, NodeResult};
-use crate::setup::{CheckGap, Compatibility, SearchSetup};
+use csm_search::{
+    CheckGap, Compatibility, ContactSearch, Error, ErrorKind, NodeResult, SearchSetup,
+};
+
+use crate::find::{FindOptions, find_true_pairs};
 
 /// A pair is true when its overlap exceeds this fraction of the slave's area (length in 2D).
 pub const MIN_OVERLAP_RATIO: Real = 1e-9;

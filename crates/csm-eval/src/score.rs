@@ -4,8 +4,9 @@ use std::collections::BTreeSet;
 
 use csm_geometry::math::Real;
 
-use super::compute::GroundTruth;
-use crate::pipeline::SearchResult;
+use csm_search::SearchResult;
+
+use crate::compute::GroundTruth;
 
 /// How a search result compares with the [`GroundTruth`], over the evaluated slave conditions
 /// and their nodes (`docs/report.md`).

@@ -1,4 +1,4 @@
-//! The ground truth of a scene: the exact pair set and the exact gap, found exhaustively, to
+//! csm's evaluation layer. The ground truth of a scene: the exact pair set and the exact gap, found exhaustively, to
 //! measure how much a search strategy misses (the error-vs-run-time report, `csm report`,
 //! `docs/report.md`).
 //!
@@ -12,7 +12,11 @@
 //! box swept along its normal, [`TruthOptions::prefilter`]) keeps it fast and never drops a
 //! true pair (a test compares it with the unfiltered all-pairs run); the segmentations run in
 //! parallel. [`Sample`] restricts it to a seeded random subset of the slave faces for large
-//! meshes. [`GroundTruth::score`] compares a [`crate::SearchResult`] with it ([`Score`]).
+//! meshes. [`GroundTruth::score`] compares a [`csm_search::SearchResult`] with it ([`Score`]).
+
+//!
+//! **Architecture Invariant:** evaluates the search from outside: it uses only the public
+//! interface of `csm-search` (and the layers below); nothing in the search depends on it.
 
 mod compute;
 mod find;
