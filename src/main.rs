@@ -5,7 +5,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand};
-use csm::cli::{Progress, RunOptions, logger};
+use csm::cli::{Progress, ReportText as _, RunOptions, logger};
 
 #[derive(Debug, Parser)]
 #[command(name = "csm", version, about = "Finite-element contact search")]

@@ -14,7 +14,9 @@ pub use demo::{
 };
 pub use info::{MeshInfo, PartInfo, mesh_info};
 pub use progress::{Progress, progress_wanted};
-pub use report::{Report, ReportOptions, Row, Strategy, TruthSummary, run_report, strategies};
+pub use report::{
+    Report, ReportOptions, ReportText, Row, Strategy, TruthSummary, run_report, strategies,
+};
 pub use search::{
     RunOptions, Timings, default_setup, load_setup, run_search, run_search_with, search_plan,
     setup_for,

@@ -13,6 +13,8 @@
 //! true pair (a test compares it with the unfiltered all-pairs run); the segmentations run in
 //! parallel. [`Sample`] restricts it to a seeded random subset of the slave faces for large
 //! meshes. [`GroundTruth::score`] compares a [`csm_search::SearchResult`] with it ([`Score`]).
+//! [`run_report`] runs the sweep of `csm report`: every strategy scored against the truth, with
+//! the Pareto front of error against run time ([`Report`]; the CLI renders it).
 
 //!
 //! **Architecture Invariant:** evaluates the search from outside: it uses only the public
@@ -21,9 +23,13 @@
 mod compute;
 mod find;
 mod score;
+mod sweep;
 
 pub use compute::{GroundTruth, MIN_OVERLAP_RATIO, Sample, TruthOptions};
 pub use score::Score;
+pub use sweep::{
+    Report, ReportOptions, Row, Strategy, TruthSummary, mark_pareto, run_report, strategies,
+};
 
 #[cfg(test)]
 mod tests;

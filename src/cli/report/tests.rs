@@ -1,6 +1,6 @@
 //! Unit tests of the report's helpers.
 
-use csm_eval::GroundTruth;
+use csm_eval::{GroundTruth, mark_pareto};
 
 use super::*;
 
