@@ -3,7 +3,9 @@
 //! strings.
 
 mod defaults;
+mod motion;
 mod parse;
+mod processes;
 mod types;
 mod validate;
 

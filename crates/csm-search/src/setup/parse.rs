@@ -5,15 +5,15 @@ use std::collections::BTreeMap;
 
 use serde_json::{Map, Value};
 
-use super::defaults::{
-    ALM_DEFAULTS, CONTACT_MODULES, CSM_KEYS, MESH_TYING_DEFAULTS, MPC_DEFAULTS, WRAPPER_DEFAULTS,
-};
+use super::defaults::{ALM_DEFAULTS, CONTACT_MODULES, CSM_KEYS, WRAPPER_DEFAULTS};
+use super::motion::{nodal_values, steps};
+use super::processes::{mesh_tying_as_alm, mpc_as_alm};
 use super::types::{
-    CheckGap, Compatibility, ContactProcess, ContactType, NodalValueSetup, ObbIntersectionType,
-    OctreeSearchParameters, PairSetup, PartMotion, RigidMotion, Rotation, SearchParameters,
-    SearchSetup, SearchTreeType, SetupSource, StepSetup, line_of_key_path,
+    CheckGap, Compatibility, ContactProcess, ContactType, ObbIntersectionType,
+    OctreeSearchParameters, PairSetup, SearchParameters, SearchSetup, SearchTreeType, SetupSource,
+    line_of_key_path,
 };
-use super::validate::{validate_and_fill, validate_top_level_and_fill};
+use super::validate::validate_and_fill;
 use crate::error::{Error, ErrorKind};
 
 /// The 1-based line of the first occurrence of `"key"` in `text` (the last segment of a
@@ -32,7 +32,7 @@ fn key_of(kind: &ErrorKind) -> Option<&str> {
     }
 }
 
-fn defaults(text: &str) -> Map<String, Value> {
+pub(super) fn defaults(text: &str) -> Map<String, Value> {
     match serde_json::from_str(text) {
         Ok(Value::Object(map)) => map,
         // The defaults are constants of this crate, checked by a unit test.
@@ -40,7 +40,7 @@ fn defaults(text: &str) -> Map<String, Value> {
     }
 }
 
-fn invalid(key: &str, expected: &str, found: &Value) -> Error {
+pub(super) fn invalid(key: &str, expected: &str, found: &Value) -> Error {
     ErrorKind::InvalidValue {
         key: key.to_owned(),
         expected: expected.to_owned(),
@@ -612,67 +612,6 @@ fn parse_inner(text: &str) -> Result<SearchSetup, Error> {
     })
 }
 
-/// The keys `SearchBaseProcess` takes from a contact process (`base_process_settings`), besides
-/// the part lists and property ids.
-const BASE_KEYS: [&str; 7] = [
-    "model_part_name",
-    "assume_master_slave",
-    "interval",
-    "zero_tolerance_factor",
-    "integration_order",
-    "consider_tessellation",
-    "normal_check_proportion",
-];
-
-/// `MPCContactProcess`' parameters: validated recursively against its defaults (unknown keys
-/// rejected as Kratos does), then the keys the search reads, as ALM parameters. Its
-/// `contact_type` `"MeshTying"` (mesh tying through constraints) searches as frictionless.
-fn mpc_as_alm(mut params: Map<String, Value>) -> Result<Map<String, Value>, Error> {
-    validate_and_fill(&mut params, &defaults(MPC_DEFAULTS), "")?;
-    let mut alm = Map::new();
-    for key in BASE_KEYS.iter().chain(&[
-        "contact_model_part",
-        "contact_property_ids",
-        "search_parameters",
-    ]) {
-        if let Some(v) = params.remove(*key) {
-            alm.insert((*key).to_owned(), v);
-        }
-    }
-    let contact_type = match params.remove("contact_type") {
-        Some(Value::String(t)) if t == "MeshTying" => Value::String("Frictionless".to_owned()),
-        Some(v) => v,
-        None => Value::String("Frictionless".to_owned()),
-    };
-    alm.insert("contact_type".to_owned(), contact_type);
-    Ok(alm)
-}
-
-/// `MeshTyingProcess`' parameters: validated against its defaults without recursion, as
-/// Kratos does (a `search_parameters` object the user gives is kept whole; the ALM
-/// validation then completes it with the base defaults), then read as ALM parameters:
-/// `mesh_tying_model_part` and `mesh_tying_property_ids` are the part lists and property ids.
-fn mesh_tying_as_alm(mut params: Map<String, Value>) -> Result<Map<String, Value>, Error> {
-    validate_top_level_and_fill(&mut params, &defaults(MESH_TYING_DEFAULTS))?;
-    let mut alm = Map::new();
-    for key in BASE_KEYS.iter().chain(&["search_parameters"]) {
-        if let Some(v) = params.remove(*key) {
-            alm.insert((*key).to_owned(), v);
-        }
-    }
-    if let Some(v) = params.remove("mesh_tying_model_part") {
-        alm.insert("contact_model_part".to_owned(), v);
-    }
-    if let Some(v) = params.remove("mesh_tying_property_ids") {
-        alm.insert("contact_property_ids".to_owned(), v);
-    }
-    alm.insert(
-        "contact_type".to_owned(),
-        Value::String("Frictionless".to_owned()),
-    );
-    Ok(alm)
-}
-
 /// The C++ wrapper's parameters, used verbatim (wrapper defaults already filled).
 fn cpp_parameters(m: &Map<String, Value>, cx: &mut Context) -> Result<SearchParameters, Error> {
     let r = Reader {
@@ -707,190 +646,4 @@ fn cpp_parameters(m: &Map<String, Value>, cx: &mut Context) -> Result<SearchPara
         id_name: r.str("id_name")?.to_owned(),
         create_auxiliar_conditions: !r.str("condition_name")?.is_empty(),
     })
-}
-
-/// Rejects keys of a csm object other than `allowed` (`key` is the object's path).
-fn only_keys(map: &Map<String, Value>, key: &str, allowed: &[&str]) -> Result<(), Error> {
-    match map.keys().find(|k| !allowed.contains(&k.as_str())) {
-        None => Ok(()),
-        Some(k) => Err(invalid(
-            &format!("{key}.{k}"),
-            &format!("one of the keys {}", allowed.join(", ")),
-            &Value::String(k.clone()),
-        )),
-    }
-}
-
-/// A finite number.
-fn finite(v: &Value, key: &str) -> Result<f64, Error> {
-    v.as_f64()
-        .filter(|x| x.is_finite())
-        .ok_or_else(|| invalid(key, "a finite number", v))
-}
-
-/// `[x, y, z]`, finite.
-fn vector3(v: &Value, key: &str) -> Result<csm_geometry::math::Vector, Error> {
-    let expected = "a list of 3 finite numbers [x, y, z]";
-    let items = v
-        .as_array()
-        .filter(|a| a.len() == 3)
-        .ok_or_else(|| invalid(key, expected, v))?;
-    let mut out = [0.0; 3];
-    for (o, x) in out.iter_mut().zip(items) {
-        *o = x
-            .as_f64()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| invalid(key, expected, v))?;
-    }
-    Ok(csm_geometry::math::Vector::new(out[0], out[1], out[2]))
-}
-
-/// csm's `"steps"`: `[{"delta_time": dt, "move": {"<part>": {"translate": [..], "rotate":
-/// {"axis": [..], "angle_deg": a, "centre": [..]}}}}, …]` (DESIGN.md §3). Errors name the entry
-/// as `steps[<index from 0>]`.
-fn steps(v: &Value) -> Result<Vec<StepSetup>, Error> {
-    let items = v
-        .as_array()
-        .filter(|a| !a.is_empty())
-        .ok_or_else(|| invalid("steps", "a non-empty list of steps", v))?;
-    let mut out = Vec::with_capacity(items.len());
-    for (i, item) in items.iter().enumerate() {
-        let key = format!("steps[{i}]");
-        let map = item
-            .as_object()
-            .ok_or_else(|| invalid(&key, "an object {\"delta_time\": dt, \"move\": {…}}", item))?;
-        only_keys(map, &key, &["delta_time", "move"])?;
-        let dt_key = format!("{key}.delta_time");
-        let dt = map
-            .get("delta_time")
-            .ok_or_else(|| invalid(&key, "a `delta_time`", item))?;
-        let delta_time = dt
-            .as_f64()
-            .filter(|x| x.is_finite() && *x > 0.0)
-            .ok_or_else(|| invalid(&dt_key, "a positive finite number", dt))?;
-        let mut moves: Vec<PartMotion> = Vec::new();
-        if let Some(m) = map.get("move") {
-            let move_key = format!("{key}.move");
-            let parts = m
-                .as_object()
-                .ok_or_else(|| invalid(&move_key, "an object {\"<part>\": {…}}", m))?;
-            for (part, motion) in parts {
-                let part_key = format!("{move_key}.{part}");
-                moves.push(PartMotion {
-                    part: part.clone(),
-                    motion: rigid_motion(motion, &part_key)?,
-                });
-            }
-        }
-        moves.sort_by(|a, b| a.part.cmp(&b.part));
-        out.push(StepSetup { delta_time, moves });
-    }
-    Ok(out)
-}
-
-fn rigid_motion(v: &Value, key: &str) -> Result<RigidMotion, Error> {
-    let map = v.as_object().ok_or_else(|| {
-        invalid(
-            key,
-            "an object {\"translate\": [x, y, z], \"rotate\": {…}}",
-            v,
-        )
-    })?;
-    only_keys(map, key, &["translate", "rotate"])?;
-    let translate = match map.get("translate") {
-        Some(t) => vector3(t, &format!("{key}.translate"))?,
-        None => csm_geometry::math::Vector::zeros(),
-    };
-    let rotate = match map.get("rotate") {
-        None => None,
-        Some(r) => {
-            let rkey = format!("{key}.rotate");
-            let rmap = r.as_object().ok_or_else(|| {
-                invalid(
-                    &rkey,
-                    "an object {\"axis\": [x, y, z], \"angle_deg\": a, \"centre\": [x, y, z]}",
-                    r,
-                )
-            })?;
-            only_keys(rmap, &rkey, &["axis", "angle_deg", "centre"])?;
-            let axis_key = format!("{rkey}.axis");
-            let axis = vector3(rmap.get("axis").unwrap_or(&Value::Null), &axis_key)?;
-            if axis.norm() == 0.0 {
-                return Err(invalid(&axis_key, "a non-zero axis", &rmap["axis"]));
-            }
-            let angle_key = format!("{rkey}.angle_deg");
-            let angle_deg = finite(rmap.get("angle_deg").unwrap_or(&Value::Null), &angle_key)?;
-            let centre = match rmap.get("centre") {
-                Some(c) => csm_geometry::math::Point::from(vector3(c, &format!("{rkey}.centre"))?),
-                None => csm_geometry::math::Point::origin(),
-            };
-            Some(Rotation {
-                axis,
-                angle_deg,
-                centre,
-            })
-        }
-    };
-    Ok(RigidMotion { translate, rotate })
-}
-
-/// csm's `"nodal_values"`: `[{"part": "<path>", "variable": "ACCELERATION", "buffer": 1,
-/// "value": [x, y, z]}, …]`.
-fn nodal_values(v: &Value) -> Result<Vec<NodalValueSetup>, Error> {
-    let items = v
-        .as_array()
-        .ok_or_else(|| invalid("nodal_values", "a list of nodal values", v))?;
-    let mut out = Vec::with_capacity(items.len());
-    for (i, item) in items.iter().enumerate() {
-        let key = format!("nodal_values[{i}]");
-        let map = item.as_object().ok_or_else(|| {
-            invalid(
-                &key,
-                "an object {\"part\", \"variable\", \"buffer\", \"value\"}",
-                item,
-            )
-        })?;
-        only_keys(map, &key, &["part", "variable", "buffer", "value"])?;
-        let part_v = map.get("part").unwrap_or(&Value::Null);
-        let part = part_v
-            .as_str()
-            .ok_or_else(|| invalid(&format!("{key}.part"), "a part name (string)", part_v))?;
-        let var_v = map.get("variable").unwrap_or(&Value::Null);
-        let variable = match var_v.as_str() {
-            Some("DISPLACEMENT") => csm_model::VectorVar::Displacement,
-            Some("VELOCITY") => csm_model::VectorVar::Velocity,
-            Some("ACCELERATION") => csm_model::VectorVar::Acceleration,
-            _ => {
-                return Err(invalid(
-                    &format!("{key}.variable"),
-                    "\"DISPLACEMENT\", \"VELOCITY\" or \"ACCELERATION\"",
-                    var_v,
-                ));
-            }
-        };
-        let buffer = match map.get("buffer") {
-            None => 0,
-            Some(b) => match b.as_u64() {
-                Some(b @ (0 | 1)) => b as usize,
-                _ => {
-                    return Err(invalid(
-                        &format!("{key}.buffer"),
-                        "0 (current step) or 1 (previous step)",
-                        b,
-                    ));
-                }
-            },
-        };
-        let value = vector3(
-            map.get("value").unwrap_or(&Value::Null),
-            &format!("{key}.value"),
-        )?;
-        out.push(NodalValueSetup {
-            part: part.to_owned(),
-            variable,
-            buffer,
-            value,
-        });
-    }
-    Ok(out)
 }
