@@ -5,6 +5,7 @@
 
 use std::fmt::Write as _;
 
+use csm_chart as chart;
 use csm_eval::Score;
 pub use csm_eval::{Report, ReportOptions, Row, Strategy, TruthSummary, run_report, strategies};
 use csm_search::{Compatibility, SearchTreeType};
@@ -217,16 +218,12 @@ impl ReportText for Report {
         let px = |t: f64| LEFT + (t.log10() - x0) / (x1 - x0) * (W - LEFT - RIGHT);
         let py = |m: f64| H - BOTTOM - m / ymax * (H - TOP - BOTTOM);
         let mut s = String::new();
-        let _ = writeln!(
-            s,
-            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" viewBox="0 0 {W} {H}" font-family="sans-serif" font-size="12">"#
-        );
-        let _ = writeln!(s, r#"<rect width="{W}" height="{H}" fill="white"/>"#);
+        s.push_str(&chart::open(W, H));
         let _ = writeln!(
             s,
             r#"<text x="{:.1}" y="22" text-anchor="middle" font-size="14">{}: missed true pairs vs search time</text>"#,
             (LEFT + W - RIGHT) / 2.0,
-            xml_escape(&self.scene)
+            chart::escape(&self.scene)
         );
         // Axes and ticks.
         let (bx, by) = (H - BOTTOM, W - RIGHT);
@@ -244,10 +241,9 @@ impl ReportText for Report {
                 let x = px(v);
                 let _ = writeln!(
                     s,
-                    r#"<line x1="{x:.1}" y1="{bx:.1}" x2="{x:.1}" y2="{:.1}" stroke="black"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
-                    bx + 5.0,
-                    bx + 18.0,
-                    fmt_ms(v)
+                    "{}{}",
+                    chart::line(x, bx, x, bx + 5.0, "black", ""),
+                    chart::text(x, bx + 18.0, MIDDLE, &fmt_ms(v))
                 );
             }
         }
@@ -256,18 +252,20 @@ impl ReportText for Report {
             let y = py(m);
             let _ = writeln!(
                 s,
-                r#"<line x1="{:.1}" y1="{y:.1}" x2="{LEFT:.1}" y2="{y:.1}" stroke="black"/><text x="{:.1}" y="{:.1}" text-anchor="end">{}</text>"#,
-                LEFT - 5.0,
-                LEFT - 8.0,
-                y + 4.0,
-                trim_float(m)
+                "{}{}",
+                chart::line(LEFT - 5.0, y, LEFT, y, "black", ""),
+                chart::text(LEFT - 8.0, y + 4.0, r#" text-anchor="end""#, &trim_float(m))
             );
         }
         let _ = writeln!(
             s,
-            r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">search step time (ms, log scale)</text>"#,
-            (LEFT + W - RIGHT) / 2.0,
-            H - 15.0
+            "{}",
+            chart::text(
+                (LEFT + W - RIGHT) / 2.0,
+                H - 15.0,
+                MIDDLE,
+                "search step time (ms, log scale)"
+            )
         );
         let _ = writeln!(
             s,
@@ -277,12 +275,12 @@ impl ReportText for Report {
         );
         // The Pareto fronts: Advanced solid, Simple dashed.
         for simple in [false, true] {
-            let front: Vec<String> = self
+            let front: Vec<(f64, f64)> = self
                 .front(simple)
                 .iter()
                 .map(|r| {
                     let m = r.score.as_ref().map_or(0.0, Score::missed_percent);
-                    format!("{:.1},{:.1}", px(ms(r)), py(m))
+                    (px(ms(r)), py(m))
                 })
                 .collect();
             if !front.is_empty() {
@@ -291,11 +289,7 @@ impl ReportText for Report {
                 } else {
                     ""
                 };
-                let _ = writeln!(
-                    s,
-                    r#"<polyline points="{}" fill="none" stroke="black"{dash}/>"#,
-                    front.join(" ")
-                );
+                let _ = writeln!(s, "{}", chart::polyline(&front, "black", dash));
             }
         }
         // The markers.
@@ -341,10 +335,8 @@ impl ReportText for Report {
         for t in types {
             let _ = writeln!(
                 s,
-                r#"<circle cx="{lx:.1}" cy="{ly:.1}" r="4.5" fill="{c}" stroke="{c}"/><text x="{:.1}" y="{:.1}">{}</text>"#,
-                lx + 12.0,
-                ly + 4.0,
-                t.name(),
+                r#"<circle cx="{lx:.1}" cy="{ly:.1}" r="4.5" fill="{c}" stroke="{c}"/>{}"#,
+                chart::text(lx + 12.0, ly + 4.0, "", t.name()),
                 c = colour_of(t)
             );
             ly += 18.0;
@@ -378,12 +370,7 @@ impl ReportText for Report {
                 "Advanced activation",
             ),
         ] {
-            let _ = writeln!(
-                s,
-                r#"{shape}<text x="{:.1}" y="{:.1}">{label}</text>"#,
-                lx + 12.0,
-                ly + 4.0
-            );
+            let _ = writeln!(s, "{shape}{}", chart::text(lx + 12.0, ly + 4.0, "", label));
             ly += 18.0;
         }
         for (dash, label) in [
@@ -392,18 +379,19 @@ impl ReportText for Report {
         ] {
             let _ = writeln!(
                 s,
-                r#"<line x1="{:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="black"{dash}/><text x="{:.1}" y="{:.1}">{label}</text>"#,
-                lx - 6.0,
-                lx + 6.0,
-                lx + 12.0,
-                ly + 4.0
+                "{}{}",
+                chart::line(lx - 6.0, ly, lx + 6.0, ly, "black", dash),
+                chart::text(lx + 12.0, ly + 4.0, "", label)
             );
             ly += 18.0;
         }
-        s.push_str("</svg>\n");
+        s.push_str(chart::close());
         s
     }
 }
+
+/// The attribute of centred text.
+const MIDDLE: &str = r#" text-anchor="middle""#;
 
 fn colour_of(t: SearchTreeType) -> &'static str {
     match t {
@@ -443,12 +431,6 @@ fn trim_float(v: f64) -> String {
     let s = format!("{v:.3}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
     s.to_owned()
-}
-
-fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
 }
 
 #[cfg(test)]

@@ -20,6 +20,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use anyhow::{Context, Result, bail};
+use csm_chart as chart;
 use serde_json::{Value, json};
 
 use crate::{kratos_python, workspace_root};
@@ -690,13 +691,9 @@ fn svg(rows: &[Row]) -> String {
         .copied()
         .filter(|(n, t)| *n > 0.0 && *t > 0.0)
         .collect();
-    let mut out = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" \
-         font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" \
-         fill=\"white\"/>\n"
-    );
+    let mut out = chart::open(w, h);
     if all.is_empty() {
-        out.push_str("</svg>\n");
+        out.push_str(chart::close());
         return out;
     }
     let lx = |v: f64| v.log10();
@@ -722,72 +719,66 @@ fn svg(rows: &[Row]) -> String {
     );
     let px = |v: f64| left + (lx(v) - x0) / (x1 - x0).max(1e-9) * (w - left - right);
     let py = |v: f64| h - bottom - (lx(v) - y0) / (y1 - y0).max(1e-9) * (h - top - bottom);
+    let middle = " text-anchor=\"middle\"";
     let _ = writeln!(
         out,
-        "<line x1=\"{left}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"black\"/>\n<line x1=\"{left}\" \
-         y1=\"{top}\" x2=\"{left}\" y2=\"{}\" stroke=\"black\"/>",
-        h - bottom,
-        w - right,
-        h - bottom,
-        h - bottom
+        "{}\n{}",
+        chart::line(left, h - bottom, w - right, h - bottom, "black", ""),
+        chart::line(left, top, left, h - bottom, "black", "")
     );
     for e in x0 as i32..=x1 as i32 {
-        let x = px(10f64.powi(e));
+        let label = format!("1e{e}");
         let _ = writeln!(
             out,
-            "<text x=\"{x:.1}\" y=\"{:.1}\" text-anchor=\"middle\">1e{e}</text>",
-            h - bottom + 16.0
+            "{}",
+            chart::text(px(10f64.powi(e)), h - bottom + 16.0, middle, &label)
         );
     }
     for e in y0 as i32..=y1 as i32 {
         let y = py(10f64.powi(e));
+        let label = format!("1e{e} s");
         let _ = writeln!(
             out,
-            "<text x=\"{:.1}\" y=\"{y:.1}\" text-anchor=\"end\">1e{e} s</text>\n<line x1=\"{left}\" \
-             y1=\"{y:.1}\" x2=\"{}\" y2=\"{y:.1}\" stroke=\"#ddd\"/>",
-            left - 6.0,
-            w - right
+            "{}\n{}",
+            chart::text(left - 6.0, y, " text-anchor=\"end\"", &label),
+            chart::line(left, y, w - right, y, "#ddd", "")
         );
     }
     let _ = writeln!(
         out,
-        "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">slave faces (search step, \
-         in_radius_with_obb)</text>",
-        (left + w - right) / 2.0,
-        h - 10.0
+        "{}",
+        chart::text(
+            (left + w - right) / 2.0,
+            h - 10.0,
+            middle,
+            "slave faces (search step, in_radius_with_obb)"
+        )
     );
     let colours = [
         "#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b",
     ];
     for (i, (name, pts)) in series.iter().enumerate() {
         let colour = colours[i % colours.len()];
-        let dash = if name.contains("stacked") {
-            " stroke-dasharray=\"6 3\""
+        let style = if name.contains("stacked") {
+            " stroke-width=\"2\" stroke-dasharray=\"6 3\""
         } else {
-            ""
+            " stroke-width=\"2\""
         };
-        let path: Vec<String> = pts
+        let path: Vec<(f64, f64)> = pts
             .iter()
             .filter(|(n, t)| *n > 0.0 && *t > 0.0)
-            .map(|(n, t)| format!("{:.1},{:.1}", px(*n), py(*t)))
+            .map(|(n, t)| (px(*n), py(*t)))
             .collect();
-        let _ = writeln!(
-            out,
-            "<polyline fill=\"none\" stroke=\"{colour}\" stroke-width=\"2\"{dash} points=\"{}\"/>",
-            path.join(" ")
-        );
+        let _ = writeln!(out, "{}", chart::polyline(&path, colour, style));
         let ly = top + 16.0 * i as f64 + 10.0;
         let _ = writeln!(
             out,
-            "<line x1=\"{:.1}\" y1=\"{ly:.1}\" x2=\"{:.1}\" y2=\"{ly:.1}\" stroke=\"{colour}\" \
-             stroke-width=\"2\"{dash}/>\n<text x=\"{:.1}\" y=\"{:.1}\">{name}</text>",
-            w - right + 10.0,
-            w - right + 30.0,
-            w - right + 34.0,
-            ly + 4.0
+            "{}\n{}",
+            chart::line(w - right + 10.0, ly, w - right + 30.0, ly, colour, style),
+            chart::text(w - right + 34.0, ly + 4.0, "", &chart::escape(name))
         );
     }
-    out.push_str("</svg>\n");
+    out.push_str(chart::close());
     out
 }
 

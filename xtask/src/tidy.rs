@@ -19,6 +19,7 @@ fn allowed() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
         "csm-search",
         "csm-activation",
         "csm-eval",
+        "csm-chart",
     ];
     BTreeMap::from([
         ("csm-geometry", BTreeSet::new()),
@@ -43,6 +44,7 @@ fn allowed() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
                 "csm-search",
             ]),
         ),
+        ("csm-chart", BTreeSet::new()),
         ("csm", BTreeSet::from(all)),
     ])
 }
