@@ -38,7 +38,7 @@ pub fn line(x1: f64, y1: f64, x2: f64, y2: f64, stroke: &str, extra: &str) -> St
     )
 }
 
-/// Text at `(x, y)`; `attrs` as [`line`]'s `extra` (e.g. ` text-anchor="middle"`). The text
+/// Text at `(x, y)`; `attrs` as [`line()`]'s `extra` (e.g. ` text-anchor="middle"`). The text
 /// is written as given: escape user text with [`escape`].
 pub fn text(x: f64, y: f64, attrs: &str, content: &str) -> String {
     format!("<text x=\"{x:.1}\" y=\"{y:.1}\"{attrs}>{content}</text>")
@@ -50,7 +50,7 @@ pub fn points(pts: &[(f64, f64)]) -> String {
     items.join(" ")
 }
 
-/// An unfilled polyline through `pts` ([`points`]); `extra` as [`line`]'s.
+/// An unfilled polyline through `pts` ([`points`]); `extra` as [`line()`]'s.
 pub fn polyline(pts: &[(f64, f64)], stroke: &str, extra: &str) -> String {
     format!(
         "<polyline points=\"{}\" fill=\"none\" stroke=\"{stroke}\"{extra}/>",
