@@ -5,6 +5,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand};
+use csm::cli::profile::Recorder;
 use csm::cli::{Progress, ReportText as _, RunOptions, logger};
 
 #[derive(Debug, Parser)]
@@ -116,6 +117,10 @@ enum Command {
         /// Worker threads (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
+        /// Also write the wall time of every stage (read, initialize, search, write) as
+        /// JSON (`csm-profile/1`).
+        #[arg(long, value_name = "PROFILE.json")]
+        profile: Option<PathBuf>,
         /// Print nothing but errors.
         #[arg(long)]
         quiet: bool,
@@ -124,8 +129,14 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    logger::init_from_env();
-    match run(cli) {
+    let profile = match &cli.command {
+        Command::Search {
+            profile: Some(_), ..
+        } => Some(Recorder::new()),
+        _ => None,
+    };
+    logger::init_from_env(profile.as_ref());
+    match run(cli, profile) {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
             eprintln!("error: {message}");
@@ -134,7 +145,7 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(cli: Cli) -> Result<(), String> {
+fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
     match cli.command {
         Command::Info { mesh, json, part } => {
             let model = csm::io::read_mesh(&mesh).map_err(|e| e.to_string())?;
@@ -163,15 +174,28 @@ fn run(cli: Cli) -> Result<(), String> {
             output,
             vtk,
             threads,
+            profile,
             quiet,
         } => {
             start_threads(threads)?;
             let start = Instant::now();
+            let phase = |name: &str| {
+                if let Some(r) = &recorder {
+                    r.phase(name);
+                }
+            };
+            let end_phase = |seconds: f64| {
+                if let Some(r) = &recorder {
+                    r.end_phase(seconds);
+                }
+            };
+            phase("read");
             let progress = Progress::start("reading", csm::cli::progress_wanted(quiet));
             let model = csm::io::read_mesh(&mesh);
             progress.finish();
             let mut model = model.map_err(|e| e.to_string())?;
             let read = start.elapsed().as_secs_f64();
+            end_phase(read);
             tracing::info!(target: "csm",
                 "read {}: {read:.3} s; {} nodes, {} elements, {} conditions, {} parts",
                 mesh.display(),
@@ -183,15 +207,33 @@ fn run(cli: Cli) -> Result<(), String> {
             let setup = csm::cli::setup_for(setup.as_deref(), &model)?;
             let options = RunOptions {
                 progress: csm::cli::progress_wanted(quiet),
+                profile: recorder.clone(),
             };
             let (result, timings) = csm::cli::run_search_with(&mut model, &setup, read, options)?;
+            let writing = Instant::now();
+            phase("write");
             match &output {
                 Some(path) => write_result(path, &result, &timings)?,
                 None => out(&result_json(&result, &timings)?)?,
             }
+            if let Some(r) = &recorder {
+                r.record("RESULT.json", writing.elapsed().as_secs_f64());
+            }
             if let Some(path) = &vtk {
+                let vtu = Instant::now();
                 csm::cli::write_search_vtu(&model, &result, path)?;
+                if let Some(r) = &recorder {
+                    r.record("VTU", vtu.elapsed().as_secs_f64());
+                }
                 tracing::info!(target: "csm", "wrote {}", path.display());
+            }
+            end_phase(writing.elapsed().as_secs_f64());
+            if let (Some(path), Some(r)) = (&profile, &recorder) {
+                let json = r.to_json(rayon::current_num_threads(), start.elapsed().as_secs_f64());
+                let text = serde_json::to_string_pretty(&json)
+                    .map_err(|e| format!("cannot format JSON: {e}"))?;
+                std::fs::write(path, text + "\n")
+                    .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
             }
             if !quiet {
                 let steps = match result.steps.len() {
@@ -282,6 +324,7 @@ fn run(cli: Cli) -> Result<(), String> {
             let setup = csm::cli::default_setup(&scene.model)?;
             let options = RunOptions {
                 progress: csm::cli::progress_wanted(quiet),
+                profile: None,
             };
             let pristine = scene.model.clone();
             let (result, timings) =

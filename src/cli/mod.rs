@@ -4,6 +4,7 @@
 mod demo;
 mod info;
 pub mod logger;
+pub mod profile;
 mod progress;
 mod report;
 mod search;

@@ -8,6 +8,7 @@ use std::time::Instant;
 use csm_model::ModelPart;
 use csm_search::{ContactSearch, Plan, SearchResult, SearchSetup, StepResult, parse_setup};
 
+use crate::cli::profile::Recorder;
 use crate::cli::progress::Progress;
 
 /// Wall times of the phases of a run, in seconds (RESULT.json `timings_s`).
@@ -93,11 +94,13 @@ pub fn search_plan(model: &ModelPart, setup: &SearchSetup) -> Result<Plan, Strin
 }
 
 /// How [`run_search_with`] reports while it runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct RunOptions {
     /// Draw a progress line on standard error for phases longer than [`Progress::DELAY`]
     /// (see [`progress_wanted`](crate::cli::progress_wanted)).
     pub progress: bool,
+    /// Record the phases `initialize` and `search` and their stages (`--profile`).
+    pub profile: Option<Recorder>,
 }
 
 /// Runs initialize + one search step on `model` (or, when the setup has `steps`, every step:
@@ -125,18 +128,28 @@ pub fn run_search_with(
         setup.compatibility,
         rayon::current_num_threads()
     );
+    let profile = options.profile.as_ref();
     let start = Instant::now();
+    if let Some(p) = profile {
+        p.phase("initialize");
+    }
     let progress = Progress::start("initializing", options.progress);
     let search = ContactSearch::initialize(model, setup);
     progress.finish();
     let mut search = search.map_err(|e| e.to_string())?;
     let initialize = start.elapsed().as_secs_f64();
+    if let Some(p) = profile {
+        p.end_phase(initialize);
+    }
     tracing::info!(target: "csm",
         "initialize: {initialize:.3} s ({} nodes, {} conditions after the interface generation)",
         model.nodes().len(),
         model.conditions().len()
     );
     let start = Instant::now();
+    if let Some(p) = profile {
+        p.phase("search");
+    }
     let mut search_time = 0.0;
     let result = if setup.steps.is_empty() {
         let progress = Progress::start("searching", options.progress);
@@ -176,11 +189,15 @@ pub fn run_search_with(
         last.steps = steps;
         last
     };
+    let searching = start.elapsed().as_secs_f64();
+    if let Some(p) = profile {
+        p.end_phase(searching);
+    }
     let timings = Timings {
         read,
         initialize,
         search: search_time,
-        total: read + initialize + start.elapsed().as_secs_f64(),
+        total: read + initialize + searching,
     };
     Ok((result, timings))
 }

@@ -403,3 +403,74 @@ fn rust_log_selects_phases_and_the_stage_trace() {
         "{stages}"
     );
 }
+
+/// `--profile` writes every phase with its stages, whatever `RUST_LOG` says; the stages of a
+/// phase add up to it, and RESULT.json is the one of a run without it.
+#[test]
+fn profile_has_every_phase_and_stage() {
+    let mesh = repo_mesh("boxes_41_ascii.msh");
+    let (result, profile) = (scratch("profile_result.json"), scratch("profile.json"));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_csm"))
+        .args([
+            "search",
+            mesh.to_str().unwrap(),
+            "--threads",
+            "2",
+            "--quiet",
+        ])
+        .arg("-o")
+        .arg(&result)
+        .arg("--profile")
+        .arg(&profile)
+        .env_remove("RUST_LOG")
+        .output()
+        .expect("csm runs");
+    assert!(out.status.success() && out.stderr.is_empty());
+    let p: Value = serde_json::from_str(&std::fs::read_to_string(&profile).unwrap()).unwrap();
+    assert_eq!(p["format"], "csm-profile/1");
+    assert_eq!(p["threads"], 2);
+    let phases: Vec<&str> = p["phases"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(String::as_str)
+        .collect();
+    assert_eq!(phases, ["read", "initialize", "search", "write", "total"]);
+    let stages = p["stages"].as_array().unwrap();
+    let named = |phase: &str| -> Vec<&str> {
+        stages
+            .iter()
+            .filter(|s| s["phase"] == phase)
+            .map(|s| s["stage"].as_str().unwrap())
+            .collect()
+    };
+    assert_eq!(named("read"), ["read"]);
+    for stage in [
+        "plan",
+        "interface",
+        "normal check",
+        "nodal h",
+        "search set-up",
+    ] {
+        assert!(named("initialize").contains(&stage), "{stage}: {stages:?}");
+    }
+    for stage in ["slave queries", "mapping", "activation", "result"] {
+        assert!(named("search").contains(&stage), "{stage}: {stages:?}");
+    }
+    assert_eq!(named("write")[0], "RESULT.json");
+    for phase in ["read", "initialize", "search", "write"] {
+        let sum: f64 = stages
+            .iter()
+            .filter(|s| s["phase"] == phase)
+            .map(|s| s["seconds"].as_f64().unwrap())
+            .sum();
+        let total = p["phases"][phase].as_f64().unwrap();
+        assert!(
+            (sum - total).abs() <= 1e-9 * total.max(1.0),
+            "{phase}: {sum} vs {total}"
+        );
+    }
+    let plain = csm_json(&["search", mesh.to_str().unwrap(), "--quiet"]);
+    let with: Value = serde_json::from_str(&std::fs::read_to_string(&result).unwrap()).unwrap();
+    assert_eq!(without_timings(with), without_timings(plain));
+}

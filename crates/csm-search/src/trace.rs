@@ -31,10 +31,12 @@ pub(crate) fn mark(name: &str) {
     let now = Instant::now();
     LAST.with(|last| {
         if let Some(before) = last.replace(Some(now)) {
+            let seconds = (now - before).as_secs_f64();
             tracing::debug!(
                 target: "csm::stages",
-                "stage {name} {:.3} s{}",
-                (now - before).as_secs_f64(),
+                stage = name,
+                seconds,
+                "stage {name} {seconds:.3} s{}",
                 memory()
             );
         }

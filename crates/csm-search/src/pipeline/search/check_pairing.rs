@@ -126,7 +126,7 @@ pub(super) fn check_pairing(
         Some(kept) => kept.restore_all(model),
         None => drop(compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?),
     }
-    crate::trace::mark("unit normals");
+    crate::trace::mark("unit normals after mapping");
     // CreateAuxiliaryConditions: slave side, entries without a paired condition.
     if p.create_auxiliar_conditions {
         let mut created = Vec::new();

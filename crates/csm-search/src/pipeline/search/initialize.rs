@@ -17,6 +17,7 @@ impl ContactSearch {
         model: &mut ModelPart,
         setup: &SearchSetup,
     ) -> Result<ContactSearch, Error> {
+        crate::trace::start();
         // No contact part named: the skin of the mesh (robust mode; Kratos 10.4.4 loses it).
         let with_skin;
         let setup = if setup.skin && model.find_part("Contact").is_none() {
@@ -43,7 +44,7 @@ impl ContactSearch {
         };
         // What runs; every decision below that the plan makes is taken from it.
         let plan = Plan::decide(model, setup)?;
-        crate::trace::start();
+        crate::trace::mark("plan");
         let python_path = !setup.cpp_search_parameters;
         let mut setup = setup.clone();
         let mut warnings = setup.warnings.clone();
@@ -243,6 +244,7 @@ impl ContactSearch {
         } else {
             BTreeMap::new()
         };
+        crate::trace::mark("search set-up");
         Ok(ContactSearch {
             setup,
             plan,

@@ -1,0 +1,45 @@
+//! The stage recorder: events of `csm::stages` only, phases and their `other`.
+
+use tracing_subscriber::prelude::*;
+
+use super::Recorder;
+
+#[test]
+fn records_stage_events_into_the_current_phase() {
+    let recorder = Recorder::new();
+    let subscriber = tracing_subscriber::registry().with(recorder.layer());
+    tracing::subscriber::with_default(subscriber, || {
+        recorder.phase("initialize");
+        tracing::debug!(target: "csm::stages", stage = "normal check", seconds = 0.25, "m");
+        // Not a stage: another target, or a stage event without its fields.
+        tracing::debug!(target: "csm", stage = "x", seconds = 1.0, "m");
+        tracing::debug!(target: "csm::stages", "stage without fields");
+        recorder.end_phase(1.0);
+        recorder.phase("read");
+        recorder.end_phase(0.5);
+        recorder.phase("search");
+        tracing::debug!(target: "csm::stages", stage = "mapping", seconds = 0.75, "m");
+        recorder.end_phase(0.75);
+    });
+    let stages: Vec<(String, String, f64)> = recorder
+        .stages()
+        .into_iter()
+        .map(|t| (t.phase, t.stage, t.seconds))
+        .collect();
+    let s = |p: &str, n: &str, t: f64| (p.to_owned(), n.to_owned(), t);
+    assert_eq!(
+        stages,
+        [
+            s("initialize", "normal check", 0.25),
+            s("initialize", "other", 0.75),
+            s("read", "read", 0.5),
+            s("search", "mapping", 0.75),
+        ]
+    );
+    let json = recorder.to_json(3, 2.5);
+    assert_eq!(json["format"], "csm-profile/1");
+    assert_eq!(json["threads"], 3);
+    assert_eq!(json["phases"]["initialize"], 1.0);
+    assert_eq!(json["phases"]["total"], 2.5);
+    assert_eq!(json["stages"].as_array().unwrap().len(), 4);
+}
