@@ -129,7 +129,12 @@ pub struct Options {
 }
 
 /// Runs `program args` under `/usr/bin/time`; returns (wall s, peak kB).
-fn timed(program: &str, args: &[&str], envs: &[(&str, &str)], dir: &Path) -> Result<(f64, u64)> {
+pub(crate) fn timed(
+    program: &str,
+    args: &[&str],
+    envs: &[(&str, &str)],
+    dir: &Path,
+) -> Result<(f64, u64)> {
     let stats = dir.join("time.txt");
     let status = Command::new("/usr/bin/time")
         .arg("-f")
@@ -174,7 +179,7 @@ fn read_result(path: &Path, wall: f64, rss_kb: u64) -> Result<Run> {
 }
 
 /// `pip install gmsh` into the Kratos venv when it lacks it.
-fn ensure_gmsh(python: &str) -> Result<()> {
+pub(crate) fn ensure_gmsh(python: &str) -> Result<()> {
     let ok = Command::new(python)
         .args(["-c", "import gmsh"])
         .status()
@@ -188,7 +193,7 @@ fn ensure_gmsh(python: &str) -> Result<()> {
 /// A Python for the scene generator without installing Kratos: `KRATOS_PYTHON` or the Kratos
 /// venv where they exist, else `target/bench-venv` (made on first use; gmsh is added by
 /// [`ensure_gmsh`]).
-fn scene_python() -> Result<String> {
+pub(crate) fn scene_python() -> Result<String> {
     if let Ok(python) = std::env::var("KRATOS_PYTHON") {
         return Ok(python);
     }
@@ -203,6 +208,37 @@ fn scene_python() -> Result<String> {
         crate::run("python3", &["-m", "venv", &venv.to_string_lossy()], &[])?;
     }
     Ok(python.to_string_lossy().into_owned())
+}
+
+/// The mesh of `scene` at `size` in `dir` (made by `tools/bench_scenes.py` with `python` when
+/// missing), with its slave and master face counts (from its header line).
+pub(crate) fn scene_file(
+    python: &str,
+    dir: &Path,
+    scene: &str,
+    size: &str,
+) -> Result<(PathBuf, usize, usize)> {
+    let path = dir.join(format!("{scene}_{size}.mdpa"));
+    if !path.exists() {
+        crate::run(
+            python,
+            &[
+                "tools/bench_scenes.py",
+                &dir.to_string_lossy(),
+                &format!("{scene}:{size}"),
+            ],
+            &[],
+        )?;
+    }
+    let head = std::fs::read_to_string(&path)?
+        .lines()
+        .nth(1)
+        .unwrap_or_default()
+        .to_owned();
+    // "// N nodes, E elements, S slave and M master faces"
+    let words: Vec<&str> = head.split_whitespace().collect();
+    let num = |i: usize| -> usize { words.get(i).and_then(|w| w.parse().ok()).unwrap_or(0) };
+    Ok((path, num(5), num(8)))
 }
 
 /// The least-squares slope of `ln(n ln n)` against `ln n` over the sizes `ns`: the growth
@@ -236,28 +272,10 @@ pub fn bench(o: &Options) -> Result<()> {
     let mut meshes: BTreeMap<(String, String), (PathBuf, usize, usize)> = BTreeMap::new();
     for scene in &o.scenes {
         for size in &o.sizes {
-            let path = dir.join(format!("{scene}_{size}.mdpa"));
-            if !path.exists() {
-                crate::run(
-                    &python,
-                    &[
-                        "tools/bench_scenes.py",
-                        &dir.to_string_lossy(),
-                        &format!("{scene}:{size}"),
-                    ],
-                    &[],
-                )?;
-            }
-            let head = std::fs::read_to_string(&path)?
-                .lines()
-                .nth(1)
-                .unwrap_or_default()
-                .to_owned();
-            // "// N nodes, E elements, S slave and M master faces"
-            let words: Vec<&str> = head.split_whitespace().collect();
-            let num =
-                |i: usize| -> usize { words.get(i).and_then(|w| w.parse().ok()).unwrap_or(0) };
-            meshes.insert((scene.clone(), size.clone()), (path, num(5), num(8)));
+            meshes.insert(
+                (scene.clone(), size.clone()),
+                scene_file(&python, &dir, scene, size)?,
+            );
         }
     }
 
@@ -374,7 +392,16 @@ pub fn bench(o: &Options) -> Result<()> {
             }
         }
     }
-    std::fs::write(root.join("docs/performance.md"), report(&rows, o)?)?;
+    // The section of `cargo xtask scaling` stays as it was.
+    let path = root.join("docs/performance.md");
+    let mut text = report(&rows, o)?;
+    if let Some(kept) = std::fs::read_to_string(&path)
+        .ok()
+        .and_then(|old| crate::scaling::section_of(&old).map(str::to_owned))
+    {
+        text = crate::scaling::with_section(&text, &kept);
+    }
+    std::fs::write(&path, text)?;
     std::fs::write(root.join("docs/performance.svg"), svg(&rows))?;
     std::fs::write(
         root.join("docs/performance.json"),
@@ -440,7 +467,7 @@ fn mib(kb: u64) -> String {
     format!("{:.0}", kb as f64 / 1024.0)
 }
 
-fn machine() -> String {
+pub(crate) fn machine() -> String {
     let cpu = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
         .and_then(|t| {

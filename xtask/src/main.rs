@@ -15,6 +15,9 @@
 //! - `cargo xtask bench`: csm against Kratos 10.4.4 on generated scenes at sizes 1e3–2e5
 //!   (search step, whole process, peak memory, identical pairs), written to
 //!   `docs/performance.md` (see `bench.rs`).
+//! - `cargo xtask scaling`: csm's stages with 1, 2, … threads (`--threads`), their speed-ups
+//!   and serial fractions, written to the section "Parallel scaling" of
+//!   `docs/performance.md` and `docs/scaling.svg` (see `scaling.rs`).
 //! - `cargo xtask stability`: runs the full stability suite (`tests/it/stability/`, release
 //!   build) and rewrites `docs/stability.md`; plain `cargo test` checks the CI-size cases
 //!   against the committed file.
@@ -30,6 +33,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 
 mod bench;
+mod scaling;
 #[cfg(test)]
 mod tidy;
 
@@ -53,6 +57,8 @@ enum Task {
     Fixtures,
     /// csm against Kratos on generated scenes; writes docs/performance.md.
     Bench(bench::Options),
+    /// csm's stages with 1, 2, … threads; writes the scaling section of docs/performance.md.
+    Scaling(scaling::Options),
     /// The full stability suite; rewrites docs/stability.md.
     Stability,
 }
@@ -64,6 +70,7 @@ fn main() -> Result<()> {
         Task::Features => features(),
         Task::Fixtures => fixtures(),
         Task::Bench(options) => bench::bench(&options),
+        Task::Scaling(options) => scaling::scaling(&options),
         Task::Stability => stability(),
     }
 }
