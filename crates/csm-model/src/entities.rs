@@ -250,6 +250,48 @@ impl Entities {
         self.ids.iter().copied().max().unwrap_or(0)
     }
 
+    /// The columns but the ids and the connectivity (already there, with `by_id`) of the
+    /// last `added` entities: all of `kind` and `name`, their properties the second id of
+    /// each record of `records` (`width` ids each, from the first).
+    pub(crate) fn extend_added(
+        &mut self,
+        added: usize,
+        kind: GeometryKind,
+        name: &str,
+        records: &[u32],
+        width: usize,
+    ) {
+        if added == 0 {
+            return;
+        }
+        let name_idx = self.name_index(name);
+        self.stamp = fresh_stamp();
+        let n = kind.n_nodes();
+        self.kinds.resize(self.kinds.len() + added, kind);
+        self.names.resize(self.names.len() + added, name_idx);
+        let start = self.connectivity.len() - added * n;
+        self.offsets
+            .extend((1..=added).map(|k| (start + k * n) as u32));
+        self.properties.extend(
+            records
+                .chunks_exact(width)
+                .take(added)
+                .map(|r| PropertiesId(r[1])),
+        );
+        self.flags.resize(self.flags.len() + added, Flags::new());
+    }
+
+    fn name_index(&mut self, name: &str) -> u16 {
+        let i = match self.name_table.iter().position(|n| n == name) {
+            Some(i) => i,
+            None => {
+                self.name_table.push(name.to_owned());
+                self.name_table.len() - 1
+            }
+        };
+        i as u16
+    }
+
     pub(crate) fn push(
         &mut self,
         id: u32,
@@ -258,18 +300,12 @@ impl Entities {
         nodes: &[NodeIdx],
         properties: PropertiesId,
     ) {
-        let name_idx = match self.name_table.iter().position(|n| n == name) {
-            Some(i) => i,
-            None => {
-                self.name_table.push(name.to_owned());
-                self.name_table.len() - 1
-            }
-        };
+        let name_idx = self.name_index(name);
         self.stamp = fresh_stamp();
         self.by_id.insert(id, self.ids.len() as u32);
         self.ids.push(id);
         self.kinds.push(kind);
-        self.names.push(name_idx as u16);
+        self.names.push(name_idx);
         self.connectivity.extend_from_slice(nodes);
         self.offsets.push(self.connectivity.len() as u32);
         self.properties.push(properties);

@@ -230,6 +230,52 @@ impl ModelPart {
         Ok(idx)
     }
 
+    /// Adds the nodes `ids` at `positions` (one each) in order: the same model and the same
+    /// first error as [`ModelPart::add_node`] node by node (the nodes before a refused one are
+    /// added), the columns extended once. The error comes with the refused node's position.
+    pub fn add_nodes(
+        &mut self,
+        ids: &[u32],
+        positions: &[[Real; 3]],
+    ) -> Result<(), (usize, Error)> {
+        let count = ids.len().min(positions.len());
+        self.nodes.reserve(count);
+        let mut refused = None;
+        let mut added = 0;
+        for (k, (&id, x)) in ids.iter().zip(positions).enumerate() {
+            if self.nodes.by_id.contains(id) {
+                refused = Some((
+                    k,
+                    ErrorKind::DuplicateId {
+                        entity: EntityKind::Node,
+                        id,
+                    },
+                ));
+                break;
+            }
+            if !x.iter().all(|v| v.is_finite()) {
+                refused = Some((k, ErrorKind::NonFiniteCoordinate { node: id }));
+                break;
+            }
+            self.nodes.by_id.insert(id, self.nodes.ids.len() as u32);
+            self.nodes.ids.push(id);
+            added += 1;
+        }
+        if added > 0 {
+            let points = positions[..added].iter().map(|&x| Point::from(x));
+            self.nodes.initial.extend(points.clone());
+            self.nodes.coordinates.extend(points);
+            let len = self.nodes.ids.len();
+            self.nodes.flags.resize(len, Default::default());
+            self.nodes.stamp = crate::entities::fresh_stamp();
+            self.nodal_data.resize(len);
+        }
+        match refused {
+            Some((k, e)) => Err((k, e.into())),
+            None => Ok(()),
+        }
+    }
+
     /// Adds an element. `name` is the Kratos name it was read as (may be empty). Errors on a
     /// duplicate id, a missing node or a node count that does not fit `kind`.
     pub fn add_element(
@@ -277,6 +323,124 @@ impl ModelPart {
         self.index_maps.push(IndexMap::new());
         self.condition_normals.push(Vector::zeros());
         Ok(idx)
+    }
+
+    /// Adds the entity records `records` in order, as elements (`conditions == false`) or
+    /// conditions of `kind` named `name`: each record is `kind.n_nodes() + 2` ids — the id,
+    /// the properties id, the node ids. The same model and the same first error as
+    /// [`ModelPart::ensure_properties`] then [`ModelPart::add_element`] /
+    /// [`ModelPart::add_condition`] record by record (the records before a refused one are
+    /// added), with the node ids resolved in parallel (rayon's pool) and the columns extended
+    /// once. The error comes with the refused record's position.
+    pub fn add_entity_records(
+        &mut self,
+        conditions: bool,
+        kind: GeometryKind,
+        name: &str,
+        records: &[u32],
+    ) -> Result<(), (usize, Error)> {
+        use rayon::prelude::*;
+        /// Records per parallel task.
+        const RECORDS_PER_TASK: usize = 4096;
+        let n = kind.n_nodes();
+        let width = n + 2;
+        let entity = if conditions {
+            EntityKind::Condition
+        } else {
+            EntityKind::Element
+        };
+        if n == 0 || n > MAX_ENTITY_NODES || !records.len().is_multiple_of(width) {
+            // Every record is refused the same way one by one: the first says how.
+            for (k, r) in records.chunks(width).enumerate() {
+                self.ensure_properties(PropertiesId(r.get(1).copied().unwrap_or(0)));
+                let nodes: Vec<NodeId> = r.iter().skip(2).map(|&id| NodeId(id)).collect();
+                let id = r[0];
+                let added = if conditions {
+                    self.add_condition(ConditionId(id), kind, name, &nodes, PropertiesId(r[1]))
+                        .map(|_| ())
+                } else {
+                    self.add_element(ElementId(id), kind, name, &nodes, PropertiesId(r[1]))
+                        .map(|_| ())
+                };
+                added.map_err(|e| (k, e))?;
+            }
+            return Ok(());
+        }
+        let count = records.len() / width;
+        let target = if conditions {
+            &mut self.conditions
+        } else {
+            &mut self.elements
+        };
+        target.reserve(count, n);
+        // The node indices, written in place, and per task the first record naming a
+        // missing node.
+        let start = target.connectivity.len();
+        target.connectivity.resize(start + count * n, NodeIdx(0));
+        let nodes = &self.nodes;
+        let missing = target.connectivity[start..]
+            .par_chunks_mut(RECORDS_PER_TASK * n)
+            .zip(records.par_chunks(RECORDS_PER_TASK * width))
+            .enumerate()
+            .map(|(task, (out, recs))| {
+                let pairs = out.chunks_exact_mut(n).zip(recs.chunks_exact(width));
+                for (k, (slots, r)) in pairs.enumerate() {
+                    for (slot, &node) in slots.iter_mut().zip(&r[2..]) {
+                        match nodes.index_of(node) {
+                            Some(idx) => *slot = idx,
+                            None => return Some((task * RECORDS_PER_TASK + k, node)),
+                        }
+                    }
+                }
+                None
+            })
+            .find_first(Option::is_some)
+            .flatten();
+        let usable = missing.map_or(count, |(k, _)| k);
+        let mut last_properties = None;
+        let mut refused = None;
+        let mut added = 0;
+        for (k, r) in records.chunks_exact(width).take(usable).enumerate() {
+            if last_properties != Some(r[1]) {
+                self.properties
+                    .entry(PropertiesId(r[1]))
+                    .or_insert_with(|| Properties::new(PropertiesId(r[1])));
+                last_properties = Some(r[1]);
+            }
+            if target.by_id.contains(r[0]) {
+                refused = Some((k, ErrorKind::DuplicateId { entity, id: r[0] }));
+                break;
+            }
+            target.by_id.insert(r[0], target.ids.len() as u32);
+            target.ids.push(r[0]);
+            added += 1;
+        }
+        // The other columns of the records added; the connectivity of the others goes.
+        target.connectivity.truncate(start + added * n);
+        target.extend_added(added, kind, name, records, width);
+        if conditions {
+            self.index_maps
+                .resize_with(self.conditions.len(), IndexMap::new);
+            self.condition_normals
+                .resize(self.conditions.len(), Vector::zeros());
+        }
+        if let Some((k, e)) = refused {
+            return Err((k, e.into()));
+        }
+        if let Some((k, node)) = missing {
+            let r = &records[k * width..(k + 1) * width];
+            self.ensure_properties(PropertiesId(r[1]));
+            return Err((
+                k,
+                ErrorKind::MissingNode {
+                    entity,
+                    id: r[0],
+                    node,
+                }
+                .into(),
+            ));
+        }
+        Ok(())
     }
 
     /// The dense indices of `nodes`, into `out` (the first `nodes.len()` entries).

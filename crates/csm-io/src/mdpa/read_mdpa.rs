@@ -36,10 +36,37 @@ pub fn read_mdpa(text: &str, file_name: &str) -> Result<ModelPart, Error> {
 /// text (every ASCII file) is read in place, anything else after the lossy conversion (each
 /// invalid byte sequence becomes U+FFFD, so a Latin-1 comment or name still reads).
 pub(crate) fn read_mdpa_bytes(bytes: &[u8], file_name: &str) -> Result<ModelPart, Error> {
-    match std::str::from_utf8(bytes) {
-        Ok(text) => read_mdpa(text, file_name),
-        Err(_) => read_mdpa(&String::from_utf8_lossy(bytes), file_name),
+    if is_utf8(bytes) {
+        read_mdpa_with(bytes, file_name, Some(Parallel::default()))
+    } else {
+        read_mdpa(&String::from_utf8_lossy(bytes), file_name)
     }
+}
+
+/// Whether `bytes` are UTF-8 (as `std::str::from_utf8(bytes).is_ok()`), checked in pieces in
+/// parallel on a large text: a piece starts at an ASCII byte, which no multi-byte sequence
+/// contains, so the pieces are UTF-8 exactly when the whole is.
+pub(super) fn is_utf8(bytes: &[u8]) -> bool {
+    use rayon::prelude::*;
+    /// The bytes of a piece (at least).
+    const PIECE: usize = 1 << 20;
+    if bytes.len() < 2 * PIECE || rayon::current_num_threads() < 2 {
+        return std::str::from_utf8(bytes).is_ok();
+    }
+    let mut cuts = vec![0];
+    let mut at = PIECE;
+    while at < bytes.len() {
+        match bytes[at..].iter().position(u8::is_ascii) {
+            Some(k) => {
+                cuts.push(at + k);
+                at += k + PIECE;
+            }
+            None => break,
+        }
+    }
+    cuts.push(bytes.len());
+    cuts.par_windows(2)
+        .all(|w| std::str::from_utf8(&bytes[w[0]..w[1]]).is_ok())
 }
 
 /// The sizes of the parallel block parsing.
@@ -357,11 +384,8 @@ impl<'a> Reader<'a> {
     fn nodes(&mut self) -> Result<(), Error> {
         self.parallel_records(Record::Node, |mp, parsed, estimate| {
             mp.reserve_nodes(estimate);
-            for (k, (id, x)) in parsed.ids.iter().zip(&parsed.coordinates).enumerate() {
-                mp.add_node(NodeId(*id), (*x).into())
-                    .map_err(|e| (4 * k, e))?;
-            }
-            Ok(())
+            mp.add_nodes(&parsed.ids, &parsed.coordinates)
+                .map_err(|(k, e)| (4 * k, e))
         })?;
         loop {
             let t = self.next("Nodes")?;
@@ -397,20 +421,8 @@ impl<'a> Reader<'a> {
         let nodes_each = kind.n_nodes();
         self.parallel_records(Record::Ids(width), |mp, parsed, estimate| {
             mp.reserve_entities(!is_element, estimate, nodes_each);
-            let mut conn = Vec::with_capacity(nodes_each);
-            for (k, record) in parsed.ids.chunks_exact(width).enumerate() {
-                conn.clear();
-                conn.extend(record[2..].iter().map(|&n| NodeId(n)));
-                add_entity(
-                    mp,
-                    is_element,
-                    (record[0], kind, &name),
-                    &conn,
-                    PropertiesId(record[1]),
-                )
-                .map_err(|e| (width * k, e))?;
-            }
-            Ok(())
+            mp.add_entity_records(!is_element, kind, &name, &parsed.ids)
+                .map_err(|(k, e)| (width * k, e))
         })?;
         loop {
             let t = self.next(block)?;

@@ -287,3 +287,40 @@ mod parallel_blocks {
         );
     }
 }
+
+/// The parallel UTF-8 check against `std::str::from_utf8` on texts of several pieces:
+/// multi-byte characters everywhere (so across the piece boundaries), a long run without
+/// ASCII, and an invalid byte early, at a boundary or at the end.
+#[test]
+fn the_parallel_utf8_check_is_from_utf8() {
+    let rayon_pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let mut text = Vec::new();
+    while text.len() < (3 << 20) + 7 {
+        text.extend_from_slice("ab é € 𝄞 x\n".as_bytes());
+    }
+    let no_ascii = "é".repeat(1 << 20).into_bytes();
+    let mut cases = vec![
+        text.clone(),
+        [text.clone(), no_ascii.clone(), text.clone()].concat(),
+    ];
+    for at in [3, 1 << 20, (1 << 20) + 1, text.len() - 1] {
+        let mut bad = text.clone();
+        bad[at] = 0xff;
+        cases.push(bad);
+    }
+    let mut cut = text.clone();
+    cut.truncate((2 << 20) + 2); // may end inside a character
+    cases.push(cut);
+    rayon_pool.install(|| {
+        for (k, bytes) in cases.iter().enumerate() {
+            assert_eq!(
+                super::read_mdpa::is_utf8(bytes),
+                std::str::from_utf8(bytes).is_ok(),
+                "case {k}"
+            );
+        }
+    });
+}

@@ -194,3 +194,142 @@ fn with_column_mut_lends_the_column_and_puts_it_back() {
         1.5
     );
 }
+
+/// What a model holds of its nodes and entities, for comparing two ways of building it.
+fn entity_summary(mp: &ModelPart) -> String {
+    let mut s = format!(
+        "nodes {:?} {:?} {:?}\n",
+        mp.nodes().ids(),
+        mp.nodes().coordinates(),
+        mp.nodes().initial_coordinates()
+    );
+    for e in [mp.elements(), mp.conditions()] {
+        s += &format!("{:?} {:?}\n", e.ids(), e.kinds());
+        for i in 0..e.len() {
+            s += &format!(
+                "{} {:?} {:?} {:?}\n",
+                e.name(i),
+                e.nodes(i),
+                e.properties(i),
+                e.flags()[i]
+            );
+        }
+    }
+    s + &format!(
+        "properties {:?}; {} index maps; {} normals",
+        mp.properties().keys().collect::<Vec<_>>(),
+        (0..mp.conditions().len())
+            .filter(|&i| mp.index_map(ConditionIdx(i as u32)).is_empty())
+            .count(),
+        mp.condition_normals().len()
+    )
+}
+
+/// `add_nodes` and `add_entity_records` against `add_node`, `add_element` and
+/// `add_condition` one by one (the oracle): the same model and the same first error, over
+/// more records than one parallel task holds, with a bad record early, late or nowhere.
+#[test]
+fn bulk_insertion_is_one_by_one_insertion() {
+    let n_nodes = 10_000u32;
+    let ids: Vec<u32> = (1..=n_nodes).collect();
+    let positions: Vec<[f64; 3]> = ids.iter().map(|&i| [i as f64, 0.5, -1.0]).collect();
+    // Triangles over consecutive nodes, properties changing every 1000 records.
+    let records = |count: u32| -> Vec<u32> {
+        (1..=count)
+            .flat_map(|i| [i, i / 1000, i, i + 1, i + 2])
+            .collect()
+    };
+    let spoil = |mut r: Vec<u32>, at: Option<(usize, usize, u32)>| {
+        if let Some((record, word, value)) = at {
+            r[5 * record + word] = value;
+        }
+        r
+    };
+    for at in [
+        None,
+        Some((0, 3, 99_999)),     // a missing node in the first record
+        Some((9_000, 2, 99_999)), // … deep in a later task
+        Some((9_000, 0, 17)),     // a duplicate id
+        Some((5_000, 4, 99_999)),
+    ] {
+        let recs = spoil(records(9_990), at);
+        let oracle = {
+            let mut mp = ModelPart::new("S");
+            for (&id, x) in ids.iter().zip(&positions) {
+                mp.add_node(NodeId(id), Point::from(*x)).unwrap();
+            }
+            let mut first = None;
+            for conditions in [false, true] {
+                for (k, r) in recs.chunks(5).enumerate() {
+                    mp.ensure_properties(PropertiesId(r[1]));
+                    let nodes: Vec<NodeId> = r[2..].iter().map(|&n| NodeId(n)).collect();
+                    let added = if conditions {
+                        mp.add_condition(
+                            ConditionId(r[0]),
+                            GeometryKind::Triangle3D3,
+                            "C",
+                            &nodes,
+                            PropertiesId(r[1]),
+                        )
+                        .map(|_| ())
+                    } else {
+                        mp.add_element(
+                            ElementId(r[0]),
+                            GeometryKind::Triangle3D3,
+                            "E",
+                            &nodes,
+                            PropertiesId(r[1]),
+                        )
+                        .map(|_| ())
+                    };
+                    if let Err(e) = added {
+                        first.get_or_insert((conditions, k, e.to_string()));
+                        break;
+                    }
+                }
+            }
+            (entity_summary(&mp), first)
+        };
+        let bulk = {
+            let mut mp = ModelPart::new("S");
+            mp.add_nodes(&ids, &positions).unwrap();
+            let mut first = None;
+            for conditions in [false, true] {
+                let name = if conditions { "C" } else { "E" };
+                if let Err((k, e)) =
+                    mp.add_entity_records(conditions, GeometryKind::Triangle3D3, name, &recs)
+                {
+                    first.get_or_insert((conditions, k, e.to_string()));
+                }
+            }
+            (entity_summary(&mp), first)
+        };
+        assert_eq!(bulk.1, oracle.1, "{at:?}");
+        assert!(bulk.0 == oracle.0, "{at:?}: the models differ");
+    }
+    // Nodes: a duplicate and a non-finite coordinate, each after some nodes were added.
+    for (ids, x) in [
+        (vec![1, 2, 3, 2], [0.0; 3]),
+        (vec![1, 2, 3, 4], [f64::NAN, 0.0, 0.0]),
+    ] {
+        let mut positions = vec![[0.0; 3]; 4];
+        positions[3] = x;
+        let mut one = ModelPart::new("S");
+        let err_one = ids
+            .iter()
+            .zip(&positions)
+            .enumerate()
+            .find_map(|(k, (&id, p))| {
+                one.add_node(NodeId(id), Point::from(*p))
+                    .err()
+                    .map(|e| (k, e.to_string()))
+            });
+        let mut bulk = ModelPart::new("S");
+        let err_bulk = bulk
+            .add_nodes(&ids, &positions)
+            .err()
+            .map(|(k, e)| (k, e.to_string()));
+        assert_eq!(err_bulk, err_one);
+        assert_eq!(entity_summary(&bulk), entity_summary(&one));
+    }
+}
