@@ -182,5 +182,61 @@ fn search_step(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, kdtree, octree, bounding_volumes, sat, search_step);
+/// RESULT.json of a result the size of the 2e5 sphere's (2e5 slave conditions, a few
+/// thousand with masters, 1e5 nodes), written with 1 and 2 threads.
+fn result_json(c: &mut Criterion) {
+    use csm::search::{NodeResult, SearchResult};
+    let mut r = SearchResult::default();
+    let slaves = (1..=200_000u32)
+        .map(|i| {
+            let masters = if i % 60 == 0 {
+                vec![i + 7, i + 9]
+            } else {
+                Vec::new()
+            };
+            (i, masters)
+        })
+        .collect();
+    r.pairs.insert("0".to_owned(), slaves);
+    r.nodes = (1..=100_000u32)
+        .map(|i| {
+            let normal_gap = (i % 3 == 0).then(|| -1e-3 * f64::from(i).sqrt());
+            (
+                i,
+                NodeResult {
+                    normal_gap,
+                    active: i % 7 == 0,
+                },
+            )
+        })
+        .collect();
+    let timings = [("read", 0.5), ("total", 1.0)];
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut out = Vec::with_capacity(32 << 20);
+        c.bench_function(
+            &format!("RESULT.json 2e5 slaves, {threads} thread(s)"),
+            |b| {
+                b.iter(|| {
+                    out.clear();
+                    pool.install(|| r.write_json(&timings, &mut out)).unwrap();
+                    black_box(out.len())
+                })
+            },
+        );
+    }
+}
+
+criterion_group!(
+    benches,
+    kdtree,
+    octree,
+    bounding_volumes,
+    sat,
+    search_step,
+    result_json
+);
 criterion_main!(benches);

@@ -16,6 +16,7 @@ mod motion;
 mod octree;
 mod pairing;
 mod result;
+mod result_text;
 mod search;
 mod self_contact;
 mod shared_conditions;

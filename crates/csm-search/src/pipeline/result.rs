@@ -61,7 +61,8 @@ impl SearchResult {
     /// `timings` become `timings_s`. A multi-step result adds `steps`: per step `step`,
     /// `pairs`, `nodes`, `paired_conditions` and `timings_s` (`search`).
     pub fn to_json(&self, timings: &[(&str, f64)]) -> Value {
-        // The one serde view of RESULT.json ([`ResultJson`]), also what `write_json` streams.
+        // The one serde view of RESULT.json ([`ResultJson`]); `write_json` writes the same
+        // text with its big maps formatted in parallel (`result_text.rs`, tested against it).
         // It cannot fail: every map key is a string or an integer and every number is finite
         // or written as null.
         serde_json::to_value(ResultJson {
@@ -74,24 +75,16 @@ impl SearchResult {
 
     /// Writes RESULT.json to `writer`, pretty-printed and followed by a newline: the same
     /// text as `serde_json::to_string_pretty(&self.to_json(timings))`, streamed (no JSON
-    /// tree of the whole result in memory).
+    /// tree of the whole result in memory), the entries of `pairs` and `nodes` formatted in
+    /// parallel (rayon's pool).
     ///
     /// Errors: those of the writer.
     pub fn write_json(
         &self,
         timings: &[(&str, f64)],
-        mut writer: impl std::io::Write,
+        writer: impl std::io::Write,
     ) -> std::io::Result<()> {
-        serde_json::to_writer_pretty(
-            &mut writer,
-            &ResultJson {
-                result: self,
-                timings,
-                step: None,
-            },
-        )
-        .map_err(std::io::Error::from)?;
-        writer.write_all(b"\n")
+        super::result_text::write_result_json(self, timings, writer)
     }
 
     /// Total number of (slave, master) entries over every pair key.

@@ -16,7 +16,6 @@ impl ContactSearch {
             let inverted = pair.params.inverted_search;
             // Collected in vectors and bulk-built into the maps (sorted input: no per-entry
             // tree insertion).
-            let mut slaves: Vec<(u32, Vec<u32>)> = Vec::new();
             // The slave side's nodes, by node index (no sort of every face's nodes).
             let mut on_slave_side = vec![false; model.nodes().len()];
             let gaps = if pair.params.check_gap == CheckGap::MappingCheck {
@@ -24,43 +23,47 @@ impl ContactSearch {
             } else {
                 None
             };
-            for c in model.part(pair.sub).conditions() {
-                if model.conditions().flags()[c.index()].is(Flag::SLAVE) == inverted {
-                    continue;
-                }
-                let masters: Vec<u32> = model
-                    .index_map(*c)
-                    .masters()
-                    .map(ConditionId::get)
-                    .collect();
-                slaves.push((ids[c.index()], masters));
+            // The slave conditions with their masters, and their nodes marked (in parallel:
+            // the entries are sorted by id after, the marks are all `true`).
+            let cflags = model.conditions().flags();
+            let is_slave = |c: &ConditionIdx| cflags[c.index()].is(Flag::SLAVE) != inverted;
+            let conditions = model.part(pair.sub).conditions();
+            let mut slaves: Vec<(u32, Vec<u32>)> = conditions
+                .par_iter()
+                .filter(|c| is_slave(c))
+                .map(|c| {
+                    let masters = model.index_map(*c).masters().map(ConditionId::get);
+                    (ids[c.index()], masters.collect())
+                })
+                .collect();
+            for c in conditions.iter().filter(|c| is_slave(c)) {
                 for n in model.conditions().nodes(c.index()) {
                     on_slave_side[n.index()] = true;
                 }
             }
             // A part's conditions are duplicate-free, so each id comes once.
-            slaves.sort_unstable_by_key(|(id, _)| *id);
+            slaves.par_sort_unstable_by_key(|(id, _)| *id);
             let slaves: std::collections::BTreeMap<u32, Vec<u32>> = slaves.into_iter().collect();
+            let node_flags = model.nodes().flags();
             let mut node_results: Vec<(u32, NodeResult)> = (0..on_slave_side.len())
+                .into_par_iter()
                 .filter(|&i| on_slave_side[i])
                 .map(|i| {
-                    let n = NodeIdx(i as u32);
-                    let flags = model.nodes().flags()[n.index()];
                     // NORMAL_GAP is never written by No/DirectCheck (null); MappingCheck's
                     // 1e12 "not mapped" sentinel is null too.
                     let normal_gap = gaps
-                        .and_then(|g| g.get(n.index()).copied())
+                        .and_then(|g| g.get(i).copied())
                         .filter(|g| *g != csm_activation::NORMAL_GAP_SENTINEL);
                     (
-                        node_ids[n.index()],
+                        node_ids[i],
                         NodeResult {
                             normal_gap,
-                            active: flags.is(Flag::ACTIVE),
+                            active: node_flags[i].is(Flag::ACTIVE),
                         },
                     )
                 })
                 .collect();
-            node_results.sort_unstable_by_key(|(id, _)| *id);
+            node_results.par_sort_unstable_by_key(|(id, _)| *id);
             if result.nodes.is_empty() {
                 result.nodes = node_results.into_iter().collect();
             } else {
