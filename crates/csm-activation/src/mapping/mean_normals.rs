@@ -2,6 +2,7 @@
 
 use csm_geometry::math::{EPS, norm_kratos};
 use csm_model::{ConditionIdx, KeptPositions, ModelPart, VectorVar};
+use rayon::prelude::*;
 
 use super::sides::Sides;
 use crate::error::Error;
@@ -42,12 +43,15 @@ pub(crate) fn mean_normals(
         });
     }
     if let Some(col) = model.nodal_data_mut().vector_mut(VectorVar::Normal, 0) {
-        for (v, _) in col.iter_mut().zip(&count).filter(|&(_, &k)| k > 0) {
-            let norm = norm_kratos(v);
-            if norm > EPS {
-                *v /= norm;
-            }
-        }
+        col.par_iter_mut()
+            .zip(&count)
+            .filter(|&(_, &k)| k > 0)
+            .for_each(|(v, _)| {
+                let norm = norm_kratos(v);
+                if norm > EPS {
+                    *v /= norm;
+                }
+            });
     }
     Ok(())
 }

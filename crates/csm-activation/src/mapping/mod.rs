@@ -286,29 +286,28 @@ fn normal_gap_process_inner(
     drop((wanted, positions));
     drop(face_normals);
     // AUXILIAR_COORDINATES (after the mean normals, which do not read it).
+    // Origin side: the coordinates (or 0 when inverted); destination side: 0 (whatever the
+    // origin side wrote, Kratos' destination reset); other nodes keep their value. Written
+    // in parallel from each node's side.
     let coords = model.nodes().coordinates();
-    let mut aux = model
-        .nodal_data()
-        .vector(VectorVar::AuxiliarCoordinates, 0)
-        .map_or_else(|| vec![Vector::zeros(); n_nodes], <[Vector]>::to_vec);
+    let (master_side, slave_side) = (1u8, 2u8);
+    let mut side = vec![0u8; n_nodes];
     for n in &s.master_nodes {
-        aux[n.index()] = if o {
-            coords[n.index()].coords
-        } else {
-            Vector::zeros()
-        };
+        side[n.index()] |= master_side;
     }
     for n in &s.slave_nodes {
-        aux[n.index()] = if o {
-            Vector::zeros()
-        } else {
-            coords[n.index()].coords
-        };
+        side[n.index()] |= slave_side;
     }
-    // Destination reset.
-    for n in &s.slave_nodes {
-        aux[n.index()] = Vector::zeros();
-    }
+    let before = model.nodal_data().vector(VectorVar::AuxiliarCoordinates, 0);
+    let mut aux: Vec<Vector> = (0..n_nodes)
+        .into_par_iter()
+        .map(|i| match side[i] {
+            0 => before.map_or_else(Vector::zeros, |b| b[i]),
+            m if m == master_side && o => coords[i].coords,
+            _ => Vector::zeros(),
+        })
+        .collect();
+    drop(side);
     let slaves = SlavePositions::new(&s, n_nodes);
     // By slave node.
     let mut area = vec![0.0; s.slave_nodes.len()];

@@ -2,6 +2,7 @@
 
 use csm_geometry::math::Real;
 use csm_model::{ConditionIdx, Flag, ModelPart, NodeIdx, PartIdx, ScalarVar};
+use rayon::prelude::*;
 
 /// The slave and master sides of a ContactSub (Kratos' `SlaveSubModelPart` /
 /// `MasterSubModelPart`, §5.1): entities with `SLAVE != inverted`, resp. `MASTER != inverted`.
@@ -16,31 +17,31 @@ pub(crate) struct Sides {
 pub(crate) fn sides(model: &ModelPart, sub: PartIdx, inverted: bool) -> Sides {
     let ids = model.conditions().ids();
     let mut conditions = model.part(sub).conditions().to_vec();
-    conditions.sort_by_key(|c| ids[c.index()]);
+    // Ids are unique: one order, whatever the sort.
+    conditions.par_sort_unstable_by_key(|c| ids[c.index()]);
     let cflags = model.conditions().flags();
     let nflags = model.nodes().flags();
     let nodes = model.part(sub).nodes();
+    // Each side keeps the order of its list (a filter in parallel, collected in order).
+    let conditions_with = |flag: Flag| -> Vec<ConditionIdx> {
+        conditions
+            .par_iter()
+            .copied()
+            .filter(|c| cflags[c.index()].is(flag) != inverted)
+            .collect()
+    };
+    let nodes_with = |flag: Flag| -> Vec<NodeIdx> {
+        nodes
+            .par_iter()
+            .copied()
+            .filter(|n| nflags[n.index()].is(flag) != inverted)
+            .collect()
+    };
     Sides {
-        slave_conditions: conditions
-            .iter()
-            .copied()
-            .filter(|c| cflags[c.index()].is(Flag::SLAVE) != inverted)
-            .collect(),
-        master_conditions: conditions
-            .iter()
-            .copied()
-            .filter(|c| cflags[c.index()].is(Flag::MASTER) != inverted)
-            .collect(),
-        slave_nodes: nodes
-            .iter()
-            .copied()
-            .filter(|n| nflags[n.index()].is(Flag::SLAVE) != inverted)
-            .collect(),
-        master_nodes: nodes
-            .iter()
-            .copied()
-            .filter(|n| nflags[n.index()].is(Flag::MASTER) != inverted)
-            .collect(),
+        slave_conditions: conditions_with(Flag::SLAVE),
+        master_conditions: conditions_with(Flag::MASTER),
+        slave_nodes: nodes_with(Flag::SLAVE),
+        master_nodes: nodes_with(Flag::MASTER),
     }
 }
 

@@ -129,19 +129,20 @@ pub(super) fn check_pairing(
     crate::trace::mark("unit normals after mapping");
     // CreateAuxiliaryConditions: slave side, entries without a paired condition.
     if p.create_auxiliar_conditions {
-        let mut created = Vec::new();
-        for s in conditions_by_id(model, sub) {
-            if model.conditions().flags()[s.index()].is(Flag::SLAVE) == inverted {
-                continue;
-            }
-            for (master, paired) in model.index_map(s).iter() {
-                if paired.is_none()
-                    && let Some(m) = model.conditions().index_of(master.get())
-                {
-                    created.push((s, ConditionIdx(m as u32)));
-                }
-            }
-        }
+        // The entries are gathered in parallel, in slave order (`finish_pairs` sorts them).
+        let m = &*model;
+        let created: Vec<(ConditionIdx, ConditionIdx)> = conditions_by_id(m, sub)
+            .into_par_iter()
+            .filter(|s| m.conditions().flags()[s.index()].is(Flag::SLAVE) != inverted)
+            .flat_map_iter(|s| {
+                m.index_map(s).iter().filter_map(move |(master, paired)| {
+                    let found = m.conditions().index_of(master.get());
+                    found
+                        .filter(|_| paired.is_none())
+                        .map(|mi| (s, ConditionIdx(mi as u32)))
+                })
+            })
+            .collect();
         finish_pairs(model, pair, created, condition_id);
     }
     crate::trace::mark("auxiliary conditions");

@@ -278,7 +278,9 @@ pub(super) fn finish_pairs(
     mut condition_id: u32,
 ) {
     let ids = model.conditions().ids();
-    created.sort_by_key(|(s, m)| (ids[s.index()], ids[m.index()]));
+    // Ids are unique: equal keys are equal pairs, so any sort gives one order.
+    created.par_sort_unstable_by_key(|(s, m)| (ids[s.index()], ids[m.index()]));
+    pair.paired.reserve(created.len());
     for (s, m) in created {
         condition_id += 1;
         let id = ConditionId(condition_id);
