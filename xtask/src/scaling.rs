@@ -3,12 +3,14 @@
 //! [`END`]; `cargo xtask bench` keeps it), `docs/scaling.svg` and `docs/scaling.json`.
 //!
 //! For every scene (`--scenes stacked_blocks:1e5,sphere_on_plate:2e5`, made by
-//! `tools/bench_scenes.py` like the benchmark's) and every thread count (`--threads 1,2`):
-//! `csm search --threads N --profile` under `/usr/bin/time`, `--repeat` times, the thread
-//! counts interleaved so that a slow minute of a shared machine hits all of them. Each stage
-//! keeps its fastest time over the repeats, the whole process its fastest wall time. Every
-//! run's RESULT.json (but `timings_s`) must equal the first thread count's: the sweep fails
-//! otherwise.
+//! `tools/bench_scenes.py` like the benchmark's) and every thread count (`--threads 1,2`),
+//! `tools/scaling_runs.sh` runs `csm search --threads N --profile` under `/usr/bin/time`,
+//! `--repeat` times, the thread counts interleaved so that a slow minute of a shared machine
+//! hits all of them. The script needs no Rust toolchain: on a machine that only has the
+//! binary and the meshes, run it there and render its folder here with `--runs DIR`. Each
+//! stage keeps its fastest time over the repeats, the whole process its fastest wall time.
+//! Every run's RESULT.json (but `timings_s`, by checksum) must be the same: the rendering
+//! fails otherwise.
 //!
 //! From the fastest times: the speed-up `S = t₁ / t_N` and the serial fraction it implies
 //! (Karp–Flatt, `e = (1/S − 1/N) / (1 − 1/N)`: the share of the one-thread time that did not
@@ -24,7 +26,7 @@ use anyhow::{Context, Result, bail};
 use csm_chart as chart;
 use serde_json::{Value, json};
 
-use crate::bench::{ensure_gmsh, machine, scene_file, scene_python, timed};
+use crate::bench::{ensure_gmsh, machine, scene_file, scene_python};
 use crate::workspace_root;
 
 /// The first line of the generated section of `docs/performance.md`.
@@ -51,6 +53,10 @@ pub struct Options {
     /// A csm binary to use instead of building `target/release/csm`.
     #[arg(long)]
     csm: Option<PathBuf>,
+    /// Render the runs `tools/scaling_runs.sh` wrote into this folder (on another machine)
+    /// instead of running them.
+    #[arg(long)]
+    runs: Option<PathBuf>,
 }
 
 /// The fastest times of one thread count on one scene.
@@ -127,15 +133,48 @@ fn amdahl(e: f64, n: usize) -> f64 {
 /// One scene's sweep.
 #[derive(Debug)]
 struct SceneRuns {
-    scene: String,
-    size: String,
-    slave: usize,
+    /// The mesh's name without extension (`stacked_blocks_1e5`).
+    name: String,
+    /// Its slave faces, where its header says (the benchmark's scenes).
+    slave: Option<usize>,
     /// Thread count → fastest times.
     by_threads: Vec<(usize, Fastest)>,
 }
 
 /// `cargo xtask scaling`.
 pub fn scaling(o: &Options) -> Result<()> {
+    let root = workspace_root();
+    let (runs, repeat) = match &o.runs {
+        Some(dir) => (dir.clone(), None),
+        None => (run_sweep(o)?, Some(o.repeat)),
+    };
+    let machine = std::fs::read_to_string(runs.join("machine.txt"))
+        .map(|m| m.trim().to_owned())
+        .unwrap_or_else(|_| machine());
+    let scenes = read_runs(&runs)?;
+    if scenes.is_empty() {
+        bail!("{}: no runs found", runs.display());
+    }
+    let path = root.join("docs/performance.md");
+    let old = std::fs::read_to_string(&path).unwrap_or_default();
+    std::fs::write(
+        &path,
+        with_section(&old, &section(&scenes, &machine, repeat)?),
+    )?;
+    std::fs::write(root.join("docs/scaling.svg"), svg(&scenes))?;
+    std::fs::write(
+        root.join("docs/scaling.json"),
+        serde_json::to_string_pretty(&scenes_json(&scenes, &machine))? + "\n",
+    )?;
+    eprintln!(
+        "wrote docs/performance.md (section Parallel scaling), docs/scaling.svg, docs/scaling.json"
+    );
+    Ok(())
+}
+
+/// Builds csm (unless `--csm`), makes the scenes and runs `tools/scaling_runs.sh` into
+/// `target/bench/scaling-runs` (emptied first); returns that folder.
+fn run_sweep(o: &Options) -> Result<PathBuf> {
     if o.threads.is_empty() || o.threads.contains(&0) {
         bail!("--threads: give thread counts of 1 or more");
     }
@@ -149,106 +188,124 @@ pub fn scaling(o: &Options) -> Result<()> {
     };
     let python = scene_python()?;
     let dir = root.join("target/bench");
-    std::fs::create_dir_all(&dir)?;
-    let setup = dir.join("setup_scaling.json");
+    let out = dir.join("scaling-runs");
+    if out.exists() {
+        std::fs::remove_dir_all(&out)?;
+    }
+    std::fs::create_dir_all(&out)?;
     let setup_json = json!({
         "model_part_name": "Structure",
         "contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
         "assume_master_slave": {"0": ["Parts_Slave"]},
         "contact_type": "Frictionless",
     });
-    std::fs::write(&setup, serde_json::to_string_pretty(&setup_json)?)?;
-    let mut scenes = Vec::new();
+    std::fs::write(
+        out.join("setup.json"),
+        serde_json::to_string_pretty(&setup_json)?,
+    )?;
+    let mut meshes = Vec::new();
     for spec in &o.scenes {
         let (scene, size) = spec
             .split_once(':')
             .with_context(|| format!("--scenes: `{spec}` is not scene:size"))?;
-        let mesh = dir.join(format!("{scene}_{size}.mdpa"));
-        if !mesh.exists() {
+        if !dir.join(format!("{scene}_{size}.mdpa")).exists() {
             ensure_gmsh(&python)?;
         }
-        let (mesh, slave, _) = scene_file(&python, &dir, scene, size)?;
-        scenes.push(
-            sweep(&csm, &mesh, &setup, &dir, o).map(|by_threads| SceneRuns {
-                scene: scene.to_owned(),
-                size: size.to_owned(),
-                slave,
-                by_threads,
-            })?,
-        );
+        let (mesh, _, _) = scene_file(&python, &dir, scene, size)?;
+        meshes.push(mesh.to_string_lossy().into_owned());
     }
-    let path = root.join("docs/performance.md");
-    let old = std::fs::read_to_string(&path).unwrap_or_default();
-    std::fs::write(&path, with_section(&old, &section(&scenes, o)?))?;
-    std::fs::write(root.join("docs/scaling.svg"), svg(&scenes))?;
-    std::fs::write(
-        root.join("docs/scaling.json"),
-        serde_json::to_string_pretty(&scenes_json(&scenes))? + "\n",
-    )?;
-    eprintln!(
-        "wrote docs/performance.md (section Parallel scaling), docs/scaling.svg, docs/scaling.json"
+    let threads: Vec<String> = o.threads.iter().map(usize::to_string).collect();
+    let (csm, out_s, threads, repeat) = (
+        csm.to_string_lossy().into_owned(),
+        out.to_string_lossy().into_owned(),
+        threads.join(","),
+        o.repeat.max(1).to_string(),
     );
-    Ok(())
+    let mut args = vec!["tools/scaling_runs.sh", &csm, &out_s, &threads, &repeat];
+    args.extend(meshes.iter().map(String::as_str));
+    crate::run("sh", &args, &[])?;
+    // The slave face counts, from the scenes' headers, for the table.
+    for mesh in &meshes {
+        let path = Path::new(mesh);
+        let head = std::fs::read_to_string(path)?
+            .lines()
+            .nth(1)
+            .unwrap_or_default()
+            .to_owned();
+        let stem = path.file_stem().unwrap_or_default().to_string_lossy();
+        std::fs::write(out.join(stem.as_ref()).join("header.txt"), head)?;
+    }
+    Ok(out)
 }
 
-/// The runs of one scene, thread counts interleaved; checks that the results agree.
-fn sweep(
-    csm: &Path,
-    mesh: &Path,
-    setup: &Path,
-    dir: &Path,
-    o: &Options,
-) -> Result<Vec<(usize, Fastest)>> {
-    let mut by: Vec<(usize, Fastest)> =
-        o.threads.iter().map(|&t| (t, Fastest::default())).collect();
-    let mut reference: Option<Value> = None;
-    for round in 0..o.repeat.max(1) {
-        for (threads, fastest) in &mut by {
-            let out = dir.join("scaling_result.json");
-            let profile = dir.join("scaling_profile.json");
-            let t = threads.to_string();
-            let (wall, rss) = timed(
-                &csm.to_string_lossy(),
-                &[
-                    "search",
-                    &mesh.to_string_lossy(),
-                    "--setup",
-                    &setup.to_string_lossy(),
-                    "-o",
-                    &out.to_string_lossy(),
-                    "--profile",
-                    &profile.to_string_lossy(),
-                    "--threads",
-                    &t,
-                    "--quiet",
-                ],
-                &[],
-                dir,
-            )?;
-            let mut result: Value = serde_json::from_str(&std::fs::read_to_string(&out)?)?;
-            if let Some(m) = result.as_object_mut() {
-                m.remove("timings_s");
-            }
-            match &reference {
-                None => reference = Some(result),
-                Some(r) if *r != result => bail!(
-                    "{}: the result with {threads} threads differs from the one with {} \
-                     (round {round})",
-                    mesh.display(),
-                    o.threads[0]
-                ),
-                Some(_) => {}
-            }
-            let p: Value = serde_json::from_str(&std::fs::read_to_string(&profile)?)?;
-            fastest.merge(wall, rss, &p);
-            eprintln!(
-                "scaling: {} {threads} threads: {wall:.3} s (search {:.3} s)",
-                mesh.display(),
-                p["phases"]["search"].as_f64().unwrap_or(f64::NAN)
+/// The runs under `dir` (one folder per mesh, in name order), each scene's fastest times per
+/// thread count; fails when the results of a scene differ between runs.
+fn read_runs(dir: &Path) -> Result<Vec<SceneRuns>> {
+    let mut folders: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("cannot read {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    folders.sort();
+    let mut scenes = Vec::new();
+    for folder in folders {
+        let mut by: BTreeMap<usize, Fastest> = BTreeMap::new();
+        let mut checksums: BTreeMap<String, Vec<String>> = BTreeMap::new();
+        let mut files: Vec<PathBuf> = std::fs::read_dir(&folder)?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.to_string_lossy().ends_with(".profile.json"))
+            .collect();
+        files.sort();
+        for profile_path in files {
+            let file = profile_path
+                .file_name()
+                .unwrap_or_default()
+                .to_string_lossy();
+            let base = file.trim_end_matches(".profile.json");
+            let threads: usize = base
+                .strip_prefix('t')
+                .and_then(|r| r.split('_').next())
+                .and_then(|t| t.parse().ok())
+                .with_context(|| format!("{}: not t<N>_r<k>", profile_path.display()))?;
+            let profile: Value = serde_json::from_str(&std::fs::read_to_string(&profile_path)?)
+                .with_context(|| format!("{} is not JSON", profile_path.display()))?;
+            let time = std::fs::read_to_string(folder.join(format!("{base}.time.txt")))?;
+            let mut f = time.lines().last().unwrap_or_default().split_whitespace();
+            let wall: f64 = f.next().context("no wall time")?.parse()?;
+            let rss: u64 = f.next().unwrap_or("0").parse().unwrap_or(0);
+            by.entry(threads).or_default().merge(wall, rss, &profile);
+            let sum = std::fs::read_to_string(folder.join(format!("{base}.result.sha256")))?;
+            checksums
+                .entry(sum.trim().to_owned())
+                .or_default()
+                .push(base.to_owned());
+        }
+        if checksums.len() > 1 {
+            bail!(
+                "{}: the results differ between runs: {checksums:?}",
+                folder.display()
             );
         }
+        if by.is_empty() {
+            continue;
+        }
+        let header = std::fs::read_to_string(folder.join("header.txt")).unwrap_or_default();
+        // "// N nodes, E elements, S slave and M master faces"
+        let slave = header
+            .split_whitespace()
+            .nth(5)
+            .and_then(|w| w.parse().ok());
+        scenes.push(SceneRuns {
+            name: folder
+                .file_name()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .into_owned(),
+            slave,
+            by_threads: by.into_iter().collect(),
+        });
     }
-    Ok(by)
+    Ok(scenes)
 }
 
 /// `old` with its scaling section replaced by `section` (appended where it has none).
@@ -277,7 +334,7 @@ pub(crate) fn section_of(old: &str) -> Option<&str> {
 }
 
 /// The Markdown section, between the markers.
-fn section(scenes: &[SceneRuns], o: &Options) -> Result<String> {
+fn section(scenes: &[SceneRuns], machine: &str, repeat: Option<usize>) -> Result<String> {
     let mut s = String::new();
     writeln!(s, "{BEGIN}")?;
     writeln!(
@@ -285,7 +342,8 @@ fn section(scenes: &[SceneRuns], o: &Options) -> Result<String> {
         "## Parallel scaling\n\n\
          Generated by `cargo xtask scaling` (`xtask/src/scaling.rs`). Machine: {}. \
          `csm search --threads N --profile` on the default setup (in_radius_with_obb, \
-         MappingCheck, kratos mode), thread counts interleaved, {} runs each; every stage's \
+         MappingCheck, kratos mode; `tools/scaling_runs.sh`), thread counts interleaved, {} \
+         runs each; every stage's \
          fastest time, and the fastest whole process (`/usr/bin/time`, which adds start-up and \
          exit to the phases). The results (RESULT.json but `timings_s`) are identical for \
          every thread count: the sweep checks it.\n\n\
@@ -296,19 +354,18 @@ fn section(scenes: &[SceneRuns], o: &Options) -> Result<String> {
          projection, not a measurement).\n\
          * Stages under 1 % of the one-thread run are summed into their phase's \
          `smaller stages`.\n",
-        machine(),
-        o.repeat
+        machine,
+        repeat.map_or("several".to_owned(), |r| r.to_string())
     )?;
     for sc in scenes {
         let (t1, f1) = &sc.by_threads[0];
         let Some((tn, fnn)) = sc.by_threads.last() else {
             continue;
         };
-        writeln!(
-            s,
-            "\n### {} {} ({} slave faces)\n",
-            sc.scene, sc.size, sc.slave
-        )?;
+        match sc.slave {
+            Some(n) => writeln!(s, "\n### {} ({n} slave faces)\n", sc.name)?,
+            None => writeln!(s, "\n### {}\n", sc.name)?,
+        }
         let mut head = "| phase | stage |".to_owned();
         let mut rule = "|---|---|".to_owned();
         for (t, _) in &sc.by_threads {
@@ -385,12 +442,12 @@ fn section(scenes: &[SceneRuns], o: &Options) -> Result<String> {
     Ok(s)
 }
 
-fn scenes_json(scenes: &[SceneRuns]) -> Value {
-    scenes
+fn scenes_json(scenes: &[SceneRuns], machine: &str) -> Value {
+    let scenes: Vec<Value> = scenes
         .iter()
         .map(|sc| {
             json!({
-                "scene": sc.scene, "size": sc.size, "slave_faces": sc.slave,
+                "scene": sc.name, "slave_faces": sc.slave,
                 "runs": sc.by_threads.iter().map(|(t, f)| json!({
                     "threads": t, "wall_s": f.wall, "peak_rss_kb": f.rss_kb,
                     "phases_s": f.phases,
@@ -400,7 +457,8 @@ fn scenes_json(scenes: &[SceneRuns]) -> Value {
                 })).collect::<Vec<_>>(),
             })
         })
-        .collect()
+        .collect();
+    json!({"machine": machine, "scenes": scenes})
 }
 
 /// Speed-up against threads (both axes log 2) for the phases and the whole process of every
@@ -500,7 +558,7 @@ fn svg(scenes: &[SceneRuns]) -> String {
                 "{}",
                 chart::polyline(&pts, colour, &format!(" stroke-width=\"2\"{style}"))
             );
-            legend.push((format!("{} {}: {phase}", sc.scene, sc.size), colour, style));
+            legend.push((format!("{}: {phase}", sc.name), colour, style));
         }
     }
     for (k, (name, colour, style)) in legend.iter().enumerate() {
@@ -560,6 +618,50 @@ mod tests {
         assert_eq!(f.phases["read"], 1.0);
         assert_eq!(f.stage(&("read".into(), "read".into())), 1.0);
         assert_eq!(f.stage(&("search".into(), "mapping".into())), 0.5);
+    }
+
+    /// The runs of a folder: the fastest per thread count, the header's slave faces, and a
+    /// failure when two results differ.
+    #[test]
+    fn runs_are_read_and_their_results_compared() {
+        let dir = std::env::temp_dir().join(format!("csm-scaling-{}", std::process::id()));
+        let scene = dir.join("blocks_1e3");
+        std::fs::create_dir_all(&scene).unwrap();
+        std::fs::write(
+            scene.join("header.txt"),
+            "// 10 nodes, 2 elements, 1000 slave and 9 master faces",
+        )
+        .unwrap();
+        let profile = |search: f64| {
+            json!({"phases": {"search": search},
+                   "stages": [{"phase": "search", "stage": "mapping", "seconds": search}]})
+            .to_string()
+        };
+        for (base, search, wall) in [
+            ("t1_r1", 2.0, 3.0),
+            ("t1_r2", 1.5, 3.5),
+            ("t2_r1", 1.0, 2.0),
+        ] {
+            std::fs::write(scene.join(format!("{base}.profile.json")), profile(search)).unwrap();
+            std::fs::write(
+                scene.join(format!("{base}.time.txt")),
+                format!("{wall} 1000\n"),
+            )
+            .unwrap();
+            std::fs::write(scene.join(format!("{base}.result.sha256")), "abc\n").unwrap();
+        }
+        let runs = read_runs(&dir).unwrap();
+        assert_eq!(runs.len(), 1);
+        assert_eq!(runs[0].name, "blocks_1e3");
+        assert_eq!(runs[0].slave, Some(1000));
+        let threads: Vec<usize> = runs[0].by_threads.iter().map(|(t, _)| *t).collect();
+        assert_eq!(threads, [1, 2]);
+        let one = &runs[0].by_threads[0].1;
+        assert_eq!((one.wall, one.phases["search"]), (3.0, 1.5));
+        std::fs::write(scene.join("t2_r1.result.sha256"), "def\n").unwrap();
+        let err = read_runs(&dir).unwrap_err().to_string();
+        assert!(err.contains("the results differ"), "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

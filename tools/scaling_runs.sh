@@ -1,0 +1,70 @@
+#!/bin/sh
+# The runs of the thread sweep (`cargo xtask scaling`), with a csm binary and meshes already
+# there: for a machine without a Rust toolchain (a lent many-core machine), where only this
+# script, the binary and the meshes are carried. `cargo xtask scaling --runs OUT` renders the
+# table from OUT afterwards, on any machine.
+#
+#   tools/scaling_runs.sh CSM OUT THREADS REPEAT MESH...
+#
+# CSM: the release binary; OUT: the folder to write into; THREADS: thread counts,
+# comma-separated (1,2,4,8,16); REPEAT: runs per thread count; MESH: .mdpa, .msh or their
+# .gz / .xz (unpacked once into OUT). For every mesh, round after round, every thread count:
+# `csm search MESH --threads N --profile` under /usr/bin/time (or the shell's clock where it is
+# missing), into OUT/<mesh name>/t<N>_r<round>.{profile.json,time.txt,result.sha256} (the
+# checksum of RESULT.json without its timings: the renderer checks that they all agree).
+# OUT/machine.txt names the machine. The setup is csm's default for parts named slave and
+# master, with the benchmark's setup when OUT/setup.json exists (the xtask writes it).
+set -eu
+
+if [ $# -lt 5 ]; then
+    echo "usage: $0 CSM OUT THREADS REPEAT MESH..." >&2
+    exit 2
+fi
+csm=$1
+out=$2
+threads=$(echo "$3" | tr ',' ' ')
+repeat=$4
+shift 4
+mkdir -p "$out"
+{
+    grep -m1 'model name' /proc/cpuinfo 2>/dev/null | sed 's/.*: //' || echo "unknown CPU"
+    echo "$(nproc 2>/dev/null || echo '?') cores available"
+} | paste -sd ',' - | sed 's/,/, /' > "$out/machine.txt"
+setup=""
+if [ -f "$out/setup.json" ]; then
+    setup="--setup $out/setup.json"
+fi
+
+for mesh in "$@"; do
+    name=$(basename "$mesh")
+    case "$name" in
+        *.gz) name=${name%.gz}; unpacked="$out/$name"; [ -f "$unpacked" ] || gzip -dc "$mesh" > "$unpacked"; mesh=$unpacked ;;
+        *.xz) name=${name%.xz}; unpacked="$out/$name"; [ -f "$unpacked" ] || xz -dc "$mesh" > "$unpacked"; mesh=$unpacked ;;
+    esac
+    dir="$out/${name%.*}"
+    mkdir -p "$dir"
+    round=1
+    while [ "$round" -le "$repeat" ]; do
+        for t in $threads; do
+            base="$dir/t${t}_r${round}"
+            if [ -x /usr/bin/time ]; then
+                # shellcheck disable=SC2086
+                /usr/bin/time -f "%e %M" -o "$base.time.txt" \
+                    "$csm" search "$mesh" $setup --threads "$t" --quiet \
+                    -o "$dir/result.json" --profile "$base.profile.json"
+            else
+                start=$(date +%s.%N)
+                # shellcheck disable=SC2086
+                "$csm" search "$mesh" $setup --threads "$t" --quiet \
+                    -o "$dir/result.json" --profile "$base.profile.json"
+                end=$(date +%s.%N)
+                echo "$(echo "$end - $start" | bc) 0" > "$base.time.txt"
+            fi
+            sed '/"timings_s"/,/}/d' "$dir/result.json" | sha256sum | cut -d' ' -f1 \
+                > "$base.result.sha256"
+            echo "scaling: $name $t threads, round $round: $(cut -d' ' -f1 "$base.time.txt") s" >&2
+        done
+        round=$((round + 1))
+    done
+    rm -f "$dir/result.json"
+done
