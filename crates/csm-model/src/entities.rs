@@ -240,8 +240,10 @@ impl Entities {
 
     /// Dense indices in Kratos' container order: ascending external id.
     pub fn indices_by_id(&self) -> Vec<usize> {
+        use rayon::prelude::*;
         let mut order: Vec<usize> = (0..self.ids.len()).collect();
-        order.sort_by_key(|&i| self.ids[i]);
+        // Ids are unique: one order, whatever the sort (in parallel on rayon's pool).
+        order.par_sort_unstable_by_key(|&i| self.ids[i]);
         order
     }
 

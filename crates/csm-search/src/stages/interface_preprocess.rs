@@ -44,6 +44,8 @@ use csm_model::{
     PropertiesId, PropertyValue,
 };
 
+use rayon::prelude::*;
+
 use crate::error::{Error, ErrorKind};
 use crate::setup::Compatibility;
 
@@ -529,25 +531,38 @@ fn check_and_create_properties(
         return Ok(());
     }
     let new_id = PropertiesId(model.properties().len() as u32 + 1);
+    // The first element in id order with a face (or, not solid, its own geometry) on the
+    // condition's nodes: the elements are tested in parallel, the first in order is taken.
     let mut key: Vec<NodeIdx> = model.conditions().nodes(first.index()).to_vec();
-    key.sort_unstable_by_key(|n| model.nodes().ids()[n.index()]);
-    let on_face = |nodes: &[NodeIdx]| {
-        let mut v = nodes.to_vec();
-        v.sort_unstable_by_key(|n| model.nodes().ids()[n.index()]);
-        v == key
-    };
-    let owner = model.elements().indices_by_id().into_iter().find(|&e| {
-        let kind = model.elements().kind(e);
-        let nodes = model.elements().nodes(e);
-        if kind.is_solid() {
-            kind.faces().iter().any(|(_, local)| {
-                let face: Vec<NodeIdx> = local.iter().map(|&l| nodes[l]).collect();
-                on_face(&face)
-            })
-        } else {
-            on_face(nodes)
+    key.sort_unstable();
+    let on_face = |nodes: &mut dyn Iterator<Item = NodeIdx>| {
+        let mut face = [NodeIdx(0); 27];
+        let mut n = 0;
+        for node in nodes {
+            if n == face.len() {
+                return false;
+            }
+            face[n] = node;
+            n += 1;
         }
-    });
+        face[..n].sort_unstable();
+        face[..n] == key[..]
+    };
+    let owner = model
+        .elements()
+        .indices_by_id()
+        .into_par_iter()
+        .find_first(|&e| {
+            let kind = model.elements().kind(e);
+            let nodes = model.elements().nodes(e);
+            if kind.is_solid() {
+                kind.faces()
+                    .iter()
+                    .any(|(_, local)| on_face(&mut local.iter().map(|&l| nodes[l])))
+            } else {
+                on_face(&mut nodes.iter().copied())
+            }
+        });
     let Some(owner) = owner else {
         return Err(ErrorKind::Model("It was not possible to add a property".into()).into());
     };

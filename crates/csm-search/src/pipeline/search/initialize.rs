@@ -293,17 +293,19 @@ pub(super) fn skin_roles(model: &mut ModelPart, setup: &SearchSetup) {
 pub(super) fn kratos_condition_ids(model: &ModelPart, contact: PartIdx) -> BTreeMap<u32, u32> {
     let mut all = model.conditions().ids().to_vec();
     all.par_sort_unstable();
-    let mut renumbered = BTreeMap::new();
-    for c in model.part(contact).conditions() {
-        let id = model.conditions().ids()[c.index()];
-        // Ids are unique: the position is the new id minus one.
-        if let Ok(at) = all.binary_search(&id)
-            && at as u32 + 1 != id
-        {
-            renumbered.insert(id, at as u32 + 1);
-        }
-    }
-    renumbered
+    let ids = model.conditions().ids();
+    // Ids are unique: the position is the new id minus one (looked up in parallel).
+    let renumbered: Vec<(u32, u32)> = model
+        .part(contact)
+        .conditions()
+        .par_iter()
+        .filter_map(|c| {
+            let id = ids[c.index()];
+            let at = all.binary_search(&id).ok()? as u32 + 1;
+            (at != id).then_some((id, at))
+        })
+        .collect();
+    renumbered.into_iter().collect()
 }
 
 /// The parts of a pre-existing `Contact`: every pair needs its `Contact.ContactSub<key>`, as
