@@ -141,12 +141,83 @@ struct SceneRuns {
     by_threads: Vec<(usize, Fastest)>,
 }
 
+/// What the machine itself allows on `n` threads: the speed-up of `n` copies of a fixed
+/// work over one (each thread its own copy, nothing shared), for a compute-only loop and for
+/// a memory pass (each thread sums its own 64 MiB, 8 times). A shared machine, or one whose
+/// clock drops as more cores run, stays below `n` here already: csm's speed-ups are read
+/// against these.
+fn ceilings(threads: &[usize], repeat: usize) -> Vec<(usize, f64, f64)> {
+    fn compute(seed: u64) -> u64 {
+        let mut x = seed | 1;
+        for _ in 0..150_000_000u64 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+        }
+        x
+    }
+    fn memory(buffer: &[u64]) -> u64 {
+        (0..8).fold(0u64, |acc, k| {
+            acc.wrapping_add(buffer.iter().fold(k, |a, &v| a.wrapping_add(v)))
+        })
+    }
+    let timed = |n: usize, memory_pass: bool| -> f64 {
+        let buffers: Vec<Vec<u64>> = if memory_pass {
+            (0..n).map(|k| vec![k as u64 + 1; 8 << 20]).collect()
+        } else {
+            Vec::new()
+        };
+        let start = std::time::Instant::now();
+        std::thread::scope(|scope| {
+            let handles: Vec<_> = (0..n)
+                .map(|k| {
+                    let buffer = buffers.get(k);
+                    scope.spawn(move || match buffer {
+                        Some(b) => std::hint::black_box(memory(b)),
+                        None => std::hint::black_box(compute(k as u64 + 7)),
+                    })
+                })
+                .collect();
+            for h in handles {
+                let _ = h.join();
+            }
+        });
+        start.elapsed().as_secs_f64()
+    };
+    let mut best: BTreeMap<(usize, bool), f64> = BTreeMap::new();
+    for _ in 0..repeat.max(1) {
+        for &n in threads {
+            for memory_pass in [false, true] {
+                let t = timed(n, memory_pass);
+                let e = best.entry((n, memory_pass)).or_insert(t);
+                *e = e.min(t);
+            }
+        }
+    }
+    let one = |m: bool| best.get(&(threads[0], m)).copied().unwrap_or(f64::NAN);
+    threads
+        .iter()
+        .map(|&n| {
+            let s = |m: bool| one(m) / best[&(n, m)] * (n as f64 / threads[0] as f64);
+            (n, s(false), s(true))
+        })
+        .collect()
+}
+
 /// `cargo xtask scaling`.
 pub fn scaling(o: &Options) -> Result<()> {
     let root = workspace_root();
     let (runs, repeat) = match &o.runs {
         Some(dir) => (dir.clone(), None),
         None => (run_sweep(o)?, Some(o.repeat)),
+    };
+    // The machine's own ceilings, measured here (not for runs made elsewhere).
+    let ceiling = match &o.runs {
+        Some(_) => Vec::new(),
+        None => {
+            eprintln!("scaling: the machine's ceilings (compute-only and memory loops)");
+            ceilings(&o.threads, 5)
+        }
     };
     let machine = std::fs::read_to_string(runs.join("machine.txt"))
         .map(|m| m.trim().to_owned())
@@ -159,7 +230,7 @@ pub fn scaling(o: &Options) -> Result<()> {
     let old = std::fs::read_to_string(&path).unwrap_or_default();
     std::fs::write(
         &path,
-        with_section(&old, &section(&scenes, &machine, repeat)?),
+        with_section(&old, &section(&scenes, &machine, repeat, &ceiling)?),
     )?;
     std::fs::write(root.join("docs/scaling.svg"), svg(&scenes))?;
     std::fs::write(
@@ -334,7 +405,12 @@ pub(crate) fn section_of(old: &str) -> Option<&str> {
 }
 
 /// The Markdown section, between the markers.
-fn section(scenes: &[SceneRuns], machine: &str, repeat: Option<usize>) -> Result<String> {
+fn section(
+    scenes: &[SceneRuns],
+    machine: &str,
+    repeat: Option<usize>,
+    ceiling: &[(usize, f64, f64)],
+) -> Result<String> {
     let mut s = String::new();
     writeln!(s, "{BEGIN}")?;
     writeln!(
@@ -357,6 +433,24 @@ fn section(scenes: &[SceneRuns], machine: &str, repeat: Option<usize>) -> Result
         machine,
         repeat.map_or("several".to_owned(), |r| r.to_string())
     )?;
+    if !ceiling.is_empty() {
+        let list = |pick: fn(&(usize, f64, f64)) -> f64| {
+            ceiling
+                .iter()
+                .map(|c| format!("{:.2} on {}", pick(c), c.0))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        writeln!(
+            s,
+            "* **The machine's ceiling**, measured with the sweep: N copies of a fixed work \
+             on N threads against one, nothing shared (`ceilings` in the xtask), fastest of \
+             5. A compute-only loop: {}; a memory pass (each thread sums its own 64 MiB): {}. \
+             A speed-up near these is all this machine gives, whatever the code.",
+            list(|c| c.1),
+            list(|c| c.2)
+        )?;
+    }
     for sc in scenes {
         let (t1, f1) = &sc.by_threads[0];
         let Some((tn, fnn)) = sc.by_threads.last() else {
