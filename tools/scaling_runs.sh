@@ -58,7 +58,7 @@ for mesh in "$@"; do
                 "$csm" search "$mesh" $setup --threads "$t" --quiet \
                     -o "$dir/result.json" --profile "$base.profile.json"
                 end=$(date +%s.%N)
-                echo "$(echo "$end - $start" | bc) 0" > "$base.time.txt"
+                awk -v a="$start" -v b="$end" 'BEGIN { print b - a, 0 }' > "$base.time.txt"
             fi
             sed '/"timings_s"/,/}/d' "$dir/result.json" | sha256sum | cut -d' ' -f1 \
                 > "$base.result.sha256"

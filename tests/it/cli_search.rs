@@ -474,3 +474,69 @@ fn profile_has_every_phase_and_stage() {
     let with: Value = serde_json::from_str(&std::fs::read_to_string(&result).unwrap()).unwrap();
     assert_eq!(without_timings(with), without_timings(plain));
 }
+
+/// `tools/scaling_runs.sh`, what a lent many-core machine runs without a toolchain: a gzipped
+/// mesh is unpacked once; every thread count and round gets its profile, its time and the
+/// checksum of its RESULT.json without timings, and the checksums agree.
+#[test]
+fn the_scaling_script_makes_every_run() {
+    use std::process::Command;
+    let out = scratch("scaling_runs");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).unwrap();
+    let mesh = repo_mesh("boxes_41_ascii.msh");
+    let gz = out.join("boxes.msh.gz");
+    let zipped = Command::new("sh")
+        .arg("-c")
+        .arg(format!("gzip -c '{}' > '{}'", mesh.display(), gz.display()))
+        .status()
+        .expect("sh runs");
+    assert!(zipped.success());
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/scaling_runs.sh");
+    let run = Command::new("sh")
+        .arg(&script)
+        .arg(env!("CARGO_BIN_EXE_csm"))
+        .arg(&out)
+        .args(["1,2", "2"])
+        .arg(&gz)
+        .output()
+        .expect("sh runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(
+        !std::fs::read_to_string(out.join("machine.txt"))
+            .unwrap()
+            .trim()
+            .is_empty()
+    );
+    let dir = out.join("boxes");
+    let mut sums = Vec::new();
+    for t in [1, 2] {
+        for r in [1, 2] {
+            let base = dir.join(format!("t{t}_r{r}"));
+            let read = |ext: &str| {
+                std::fs::read_to_string(base.with_extension(ext))
+                    .unwrap_or_else(|e| panic!("t{t}_r{r}.{ext}: {e}"))
+            };
+            let profile: Value = serde_json::from_str(&read("profile.json")).unwrap();
+            assert_eq!(profile["threads"], t);
+            let wall: f64 = read("time.txt")
+                .split_whitespace()
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            assert!(wall >= 0.0);
+            sums.push(read("result.sha256").trim().to_owned());
+        }
+    }
+    assert_eq!(sums[0].len(), 64, "{sums:?}");
+    assert!(sums.iter().all(|s| *s == sums[0]), "{sums:?}");
+    assert!(
+        !dir.join("result.json").exists(),
+        "the last result is removed"
+    );
+}
