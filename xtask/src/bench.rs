@@ -800,9 +800,8 @@ fn svg(rows: &[Row]) -> String {
         let ly = top + 16.0 * i as f64 + 10.0;
         let _ = writeln!(
             out,
-            "{}\n{}",
-            chart::line(w - right + 10.0, ly, w - right + 30.0, ly, colour, style),
-            chart::text(w - right + 34.0, ly + 4.0, "", &chart::escape(name))
+            "{}",
+            chart::legend_entry(w - right + 10.0, ly, colour, style, name)
         );
     }
     out.push_str(chart::close());

@@ -657,18 +657,11 @@ fn svg(scenes: &[SceneRuns]) -> String {
     }
     for (k, (name, colour, style)) in legend.iter().enumerate() {
         let ly = top + 16.0 * k as f64 + 6.0;
+        let extra = format!(" stroke-width=\"2\"{style}");
         let _ = writeln!(
             out,
-            "{}\n{}",
-            chart::line(
-                w - right + 10.0,
-                ly,
-                w - right + 30.0,
-                ly,
-                colour,
-                &format!(" stroke-width=\"2\"{style}")
-            ),
-            chart::text(w - right + 34.0, ly + 4.0, "", &chart::escape(name))
+            "{}",
+            chart::legend_entry(w - right + 10.0, ly, colour, &extra, name)
         );
     }
     out.push_str(chart::close());

@@ -1,5 +1,6 @@
-//! The SVG helper of csm's two charts: `csm report`'s error against run time (the CLI) and
-//! the benchmark's time against size (`cargo xtask bench`). It writes the document frame and
+//! The SVG helper of csm's charts: `csm report`'s error against run time (the CLI), the
+//! benchmark's time against size (`cargo xtask bench`) and the speed-up against threads
+//! (`cargo xtask scaling`). It writes the document frame and
 //! the elements both draw — lines, polylines, text — with coordinates to one decimal, so that
 //! equal charts give equal files, and escapes text for XML. The charts decide their own axes,
 //! scales and colours.
@@ -58,9 +59,28 @@ pub fn polyline(pts: &[(f64, f64)], stroke: &str, extra: &str) -> String {
     )
 }
 
+/// A legend entry at `(x, y)`: a 20-unit sample of the line (`stroke`, `extra` as [`line()`]'s)
+/// and the escaped `label` after it, on two lines of the document.
+pub fn legend_entry(x: f64, y: f64, stroke: &str, extra: &str, label: &str) -> String {
+    format!(
+        "{}\n{}",
+        line(x, y, x + 20.0, y, stroke, extra),
+        text(x + 24.0, y + 4.0, "", &escape(label))
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_legend_entry_is_a_sample_line_and_escaped_text() {
+        assert_eq!(
+            legend_entry(10.0, 20.0, "red", "", "a < b"),
+            "<line x1=\"10.0\" y1=\"20.0\" x2=\"30.0\" y2=\"20.0\" stroke=\"red\"/>\n\
+             <text x=\"34.0\" y=\"24.0\">a &lt; b</text>"
+        );
+    }
 
     #[test]
     fn elements_have_one_decimal_and_escaped_text() {
