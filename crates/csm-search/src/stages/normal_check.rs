@@ -501,21 +501,32 @@ fn invert(model: &mut ModelPart, entity: EntityKind, i: usize, kratos: bool) {
     }
 }
 
-/// Every condition: MARKER := all its nodes MARKER. Returns the marked ones' ids.
+/// Every condition: MARKER := all its nodes MARKER. Returns the marked ones' ids (by dense
+/// index). The tests run in parallel (they read node flags only).
 fn mark_conditions(model: &mut ModelPart) -> Vec<ConditionId> {
-    let mut marked = Vec::new();
-    for c in 0..model.conditions().len() {
-        let all = model
-            .conditions()
-            .nodes(c)
-            .iter()
-            .all(|n| model.nodes().flags()[n.index()].is(Flag::MARKER));
-        model.conditions_mut().flags_mut()[c].set(Flag::MARKER, all);
-        if all {
-            marked.push(ConditionId(model.conditions().ids()[c]));
-        }
-    }
-    marked
+    let all: Vec<bool> = {
+        let (conditions, node_flags) = (model.conditions(), model.nodes().flags());
+        (0..conditions.len())
+            .into_par_iter()
+            .map(|c| {
+                conditions
+                    .nodes(c)
+                    .iter()
+                    .all(|n| node_flags[n.index()].is(Flag::MARKER))
+            })
+            .collect()
+    };
+    model
+        .conditions_mut()
+        .flags_mut()
+        .par_iter_mut()
+        .zip(&all)
+        .for_each(|(f, &a)| f.set(Flag::MARKER, a));
+    let ids = model.conditions().ids();
+    (0..all.len())
+        .filter(|&c| all[c])
+        .map(|c| ConditionId(ids[c]))
+        .collect()
 }
 
 fn invert_marked_conditions(model: &mut ModelPart, kratos: bool) {
@@ -526,28 +537,19 @@ fn invert_marked_conditions(model: &mut ModelPart, kratos: bool) {
     }
 }
 
-/// Kratos `VariableUtils().ResetFlag(MARKER, …)`: MARKER becomes undefined.
+/// Kratos `VariableUtils().ResetFlag(MARKER, …)`: MARKER becomes undefined (in parallel).
 fn reset_marker(model: &mut ModelPart, nodes: bool, elements: bool, conditions: bool) {
+    let reset = |flags: &mut [csm_model::Flags]| {
+        flags.par_iter_mut().for_each(|f| f.reset(Flag::MARKER));
+    };
     if nodes {
-        model
-            .nodes_mut()
-            .flags_mut()
-            .iter_mut()
-            .for_each(|f| f.reset(Flag::MARKER));
+        reset(model.nodes_mut().flags_mut());
     }
     if elements {
-        model
-            .elements_mut()
-            .flags_mut()
-            .iter_mut()
-            .for_each(|f| f.reset(Flag::MARKER));
+        reset(model.elements_mut().flags_mut());
     }
     if conditions {
-        model
-            .conditions_mut()
-            .flags_mut()
-            .iter_mut()
-            .for_each(|f| f.reset(Flag::MARKER));
+        reset(model.conditions_mut().flags_mut());
     }
 }
 
