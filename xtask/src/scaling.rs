@@ -62,6 +62,8 @@ pub struct Options {
 /// The fastest times of one thread count on one scene.
 #[derive(Debug, Clone, Default)]
 struct Fastest {
+    /// The runs merged.
+    runs: usize,
     /// Whole-process wall time (s), `/usr/bin/time`.
     wall: f64,
     /// Peak resident memory (kB).
@@ -75,10 +77,12 @@ struct Fastest {
 impl Fastest {
     /// Keeps the faster of each time of `self` and of the run (`wall`, `rss`, `profile`).
     fn merge(&mut self, wall: f64, rss_kb: u64, profile: &Value) {
-        let first = self.phases.is_empty();
-        if first || wall < self.wall {
-            self.wall = wall;
-        }
+        self.wall = if self.runs == 0 {
+            wall
+        } else {
+            self.wall.min(wall)
+        };
+        self.runs += 1;
         self.rss_kb = self.rss_kb.max(rss_kb);
         if let Some(phases) = profile["phases"].as_object() {
             for (k, v) in phases {

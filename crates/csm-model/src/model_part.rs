@@ -352,14 +352,16 @@ impl ModelPart {
         if n == 0 || n > MAX_ENTITY_NODES || !records.len().is_multiple_of(width) {
             // Every record is refused the same way one by one: the first says how.
             for (k, r) in records.chunks(width).enumerate() {
-                self.ensure_properties(PropertiesId(r.get(1).copied().unwrap_or(0)));
+                // (A short last record reads its missing properties id as 0.)
+                let properties = PropertiesId(r.get(1).copied().unwrap_or(0));
+                self.ensure_properties(properties);
                 let nodes: Vec<NodeId> = r.iter().skip(2).map(|&id| NodeId(id)).collect();
                 let id = r[0];
                 let added = if conditions {
-                    self.add_condition(ConditionId(id), kind, name, &nodes, PropertiesId(r[1]))
+                    self.add_condition(ConditionId(id), kind, name, &nodes, properties)
                         .map(|_| ())
                 } else {
-                    self.add_element(ElementId(id), kind, name, &nodes, PropertiesId(r[1]))
+                    self.add_element(ElementId(id), kind, name, &nodes, properties)
                         .map(|_| ())
                 };
                 added.map_err(|e| (k, e))?;

@@ -307,6 +307,14 @@ fn bulk_insertion_is_one_by_one_insertion() {
         assert_eq!(bulk.1, oracle.1, "{at:?}");
         assert!(bulk.0 == oracle.0, "{at:?}: the models differ");
     }
+    // Records that do not fill whole records: the short one is refused, never a panic.
+    let mut mp = ModelPart::new("S");
+    mp.add_nodes(&ids, &positions).unwrap();
+    let (k, e) = mp
+        .add_entity_records(true, GeometryKind::Triangle3D3, "C", &[1, 0, 1, 2, 3, 2, 0])
+        .unwrap_err();
+    assert_eq!(k, 1, "{e}");
+    assert_eq!(mp.conditions().len(), 1);
     // Nodes: a duplicate and a non-finite coordinate, each after some nodes were added.
     for (ids, x) in [
         (vec![1, 2, 3, 2], [0.0; 3]),

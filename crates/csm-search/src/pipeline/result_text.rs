@@ -31,6 +31,15 @@ fn indent(out: &mut Vec<u8>, level: usize) {
     out.extend(std::iter::repeat_n(b' ', 2 * level));
 }
 
+/// Ends a map or array at depth `level` that has entries: a line end, the indentation and
+/// the closing `bracket`.
+fn close(w: &mut impl Write, level: usize, bracket: u8) -> std::io::Result<()> {
+    let mut out = vec![b'\n'];
+    indent(&mut out, level);
+    out.push(bracket);
+    w.write_all(&out)
+}
+
 /// `value` pretty-printed as it would be at depth `level`.
 fn pretty_at(out: &mut Vec<u8>, value: &impl Serialize, level: usize) -> std::io::Result<()> {
     let text = serde_json::to_vec_pretty(value).map_err(std::io::Error::from)?;
@@ -84,11 +93,7 @@ fn write_map<K: Sync, V: Sync>(
             w.write_all(&t)?;
         }
     }
-    w.write_all(b"\n")?;
-    let mut close = Vec::new();
-    indent(&mut close, level);
-    close.push(b'}');
-    w.write_all(&close)
+    close(w, level, b'}')
 }
 
 /// An integer as serde_json writes it (its integer formatter, no allocation).
@@ -173,11 +178,7 @@ fn write_pairs(
             slave_entry(out, *id, masters, level + 2);
         })?;
     }
-    w.write_all(b"\n")?;
-    let mut close = Vec::new();
-    indent(&mut close, level);
-    close.push(b'}');
-    w.write_all(&close)
+    close(w, level, b'}')
 }
 
 /// The timings map (`json!(f64)`: a non-finite value is null).
@@ -255,11 +256,7 @@ fn write_result(
         key(w, "steps", inner, false)?;
         write_steps(w, &r.steps, inner)?;
     }
-    w.write_all(b"\n")?;
-    let mut close = Vec::new();
-    indent(&mut close, level);
-    close.push(b'}');
-    w.write_all(&close)
+    close(w, level, b'}')
 }
 
 fn write_steps(w: &mut impl Write, steps: &[StepResult], level: usize) -> std::io::Result<()> {
@@ -280,11 +277,7 @@ fn write_steps(w: &mut impl Write, steps: &[StepResult], level: usize) -> std::i
             level + 1,
         )?;
     }
-    w.write_all(b"\n")?;
-    let mut close = Vec::new();
-    indent(&mut close, level);
-    close.push(b']');
-    w.write_all(&close)
+    close(w, level, b']')
 }
 
 /// RESULT.json's text of `r` with `timings`, followed by a line end.
