@@ -90,6 +90,11 @@ impl GeometryKind {
         }
     }
 
+    /// The kind Kratos names `name` ([`name`](Self::name)), if csm knows it.
+    pub fn from_name(name: &str) -> Option<GeometryKind> {
+        GeometryKind::ALL.into_iter().find(|k| k.name() == name)
+    }
+
     /// Number of nodes of the geometry.
     pub fn n_nodes(self) -> usize {
         match self {

@@ -88,6 +88,27 @@ pub enum ErrorKind {
         /// The geometric error.
         source: csm_geometry::Error,
     },
+    /// An array of [`MeshArrays`](crate::MeshArrays) has the wrong length.
+    ArrayLength {
+        /// Which array (`points`, `elements Triangle3D3: connectivity`, …).
+        what: String,
+        /// The length it must have.
+        expected: usize,
+        /// Its length.
+        found: usize,
+    },
+    /// A `DOMAIN_SIZE` other than 2 or 3.
+    InvalidDomainSize(u32),
+    /// A sub model part of [`MeshArrays`](crate::MeshArrays) lists an entity that does not
+    /// exist.
+    MissingPartMember {
+        /// The part's full path.
+        part: String,
+        /// The entity kind.
+        entity: EntityKind,
+        /// The missing id.
+        id: u32,
+    },
 }
 
 impl Error {
@@ -137,6 +158,16 @@ impl fmt::Display for Error {
                 "invalid sub model part name `{name}` (empty, or a segment contains `.` or `/`)"
             ),
             ErrorKind::Geometry { entity, id, source } => write!(f, "{entity} {id}: {source}"),
+            ErrorKind::ArrayLength {
+                what,
+                expected,
+                found,
+            } => write!(f, "{what}: {found} values, expected {expected}"),
+            ErrorKind::InvalidDomainSize(d) => write!(f, "DOMAIN_SIZE {d}: 2 or 3"),
+            ErrorKind::MissingPartMember { part, entity, id } => write!(
+                f,
+                "sub model part `{part}` lists {entity} {id}, which does not exist"
+            ),
         }
     }
 }

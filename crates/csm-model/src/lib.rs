@@ -18,6 +18,7 @@
 //! outputs show. Conversions happen in [`ModelPart`] only.
 #![deny(missing_docs)]
 
+mod arrays;
 mod entities;
 mod error;
 mod flags;
@@ -33,6 +34,7 @@ mod process_info;
 mod properties;
 mod time_step;
 
+pub use arrays::{EntityArrays, MeshArrays, PartArrays};
 pub use entities::{Entities, Nodes};
 pub use error::{EntityKind, Error, ErrorKind};
 pub use flags::{Flag, Flags};
