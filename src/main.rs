@@ -41,6 +41,9 @@ enum Command {
         /// report.svg, as `csm report`).
         #[arg(long)]
         report: bool,
+        /// Write demo.vtu's arrays as text (for diffs) instead of raw binary data.
+        #[arg(long)]
+        vtk_ascii: bool,
     },
     /// Print which stages will run and which structures will be built or allocated for a
     /// mesh and a setup, and why each other one is left out. Reads the mesh and the setup as
@@ -114,6 +117,9 @@ enum Command {
         /// condition centres) as a VTK file for ParaView.
         #[arg(long, value_name = "OUT.vtu")]
         vtk: Option<PathBuf>,
+        /// Write the VTK file's arrays as text (for diffs) instead of raw binary data.
+        #[arg(long, requires = "vtk")]
+        vtk_ascii: bool,
         /// Worker threads (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
@@ -173,6 +179,7 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
             setup,
             output,
             vtk,
+            vtk_ascii,
             threads,
             profile,
             quiet,
@@ -221,7 +228,7 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
             }
             if let Some(path) = &vtk {
                 let vtu = Instant::now();
-                csm::cli::write_search_vtu(&model, &result, path)?;
+                csm::cli::write_search_vtu(&model, &result, path, vtu_format(vtk_ascii))?;
                 if let Some(r) = &recorder {
                     r.record("VTU", vtu.elapsed().as_secs_f64());
                 }
@@ -305,6 +312,7 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
             threads,
             quiet,
             report,
+            vtk_ascii,
         } => {
             start_threads(threads)?;
             let start = Instant::now();
@@ -338,7 +346,7 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
             let json_path = output.join("RESULT.json");
             write_result(&json_path, &result, &timings)?;
             let vtu_path = output.join("demo.vtu");
-            csm::cli::write_search_vtu(&scene.model, &result, &vtu_path)?;
+            csm::cli::write_search_vtu(&scene.model, &result, &vtu_path, vtu_format(vtk_ascii))?;
             if !quiet {
                 print!("{}", csm::cli::demo_summary(&scene, &result, &timings));
                 print!("{}", truth.line());
@@ -388,6 +396,15 @@ fn write_report(report: &csm::cli::Report, dir: &Path) -> Result<(PathBuf, PathB
     write(&md, report.to_markdown())?;
     write(&svg, report.to_svg())?;
     Ok((md, svg))
+}
+
+/// The VTU form `--vtk-ascii` asks for.
+fn vtu_format(ascii: bool) -> csm::io::VtuFormat {
+    if ascii {
+        csm::io::VtuFormat::Ascii
+    } else {
+        csm::io::VtuFormat::Binary
+    }
 }
 
 /// Sizes rayon's global pool (`--threads`); all cores when `None`.

@@ -17,7 +17,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use csm_geometry::math::{Point, Vector};
-use csm_io::{DataArray, VtuWriter};
+use csm_io::{DataArray, VtuFormat, VtuWriter};
 use csm_model::{Flag, Flags, ModelPart};
 use csm_search::SearchResult;
 
@@ -149,13 +149,14 @@ pub fn search_vtu<'a>(model: &'a ModelPart, result: &SearchResult) -> VtuWriter<
     w
 }
 
-/// Writes [`search_vtu`] to `path`.
+/// Writes [`search_vtu`] to `path` in `format`.
 pub fn write_search_vtu(
     model: &ModelPart,
     result: &SearchResult,
     path: &Path,
+    format: VtuFormat,
 ) -> Result<(), String> {
     search_vtu(model, result)
-        .write_file(path)
+        .write_file(path, format)
         .map_err(|e| e.to_string())
 }

@@ -3,9 +3,9 @@
 //! - [`read_mesh`] reads a mesh by extension: Gmsh `.msh` ([`read_msh`]: MSH 2.2 and 4.1,
 //!   ASCII and binary) and Kratos `.mdpa` ([`read_mdpa`]), both parsed with `nom`, into a
 //!   [`csm_model::ModelPart`] named `Structure`.
-//! - [`VtuWriter`] writes a model part as a VTK XML UnstructuredGrid (`.vtu`, ASCII,
-//!   diff-friendly) with caller-supplied point and cell data and extra line cells (the
-//!   contact pairs).
+//! - [`VtuWriter`] writes a model part as a VTK XML UnstructuredGrid (`.vtu`; [`VtuFormat`]:
+//!   raw binary appended data, what ParaView reads fastest, or ASCII, diff-friendly) with
+//!   caller-supplied point and cell data and extra line cells (the contact pairs).
 //! - [`Error`] (with [`ErrorKind`] and [`Location`]) says what went wrong and where:
 //!   `file:line: expected …, found …` for text, the byte offset and section for binary
 //!   Gmsh data. A truncated or garbled file gives an error, never a panic.
@@ -36,4 +36,4 @@ pub use mdpa::read_mdpa;
 pub use msh::read_msh;
 pub use read_mesh::read_mesh;
 #[cfg(feature = "vtu")]
-pub use vtu::{DataArray, VtuWriter, vtk_cell_type};
+pub use vtu::{DataArray, VtuFormat, VtuWriter, vtk_cell_type};

@@ -132,3 +132,112 @@ fn bad_point_data_and_bad_line_cells_are_errors() {
     let e = w.to_xml("t.vtu").unwrap_err().to_string();
     assert!(e.contains("point indices below 5"), "{e}");
 }
+
+/// The arrays of a binary (raw appended) file by name, decoded, as the ASCII form's text:
+/// (type, values).
+fn appended_arrays(bytes: &[u8]) -> Vec<(String, String, Vec<String>)> {
+    let start = b"<AppendedData encoding=\"raw\">\n   _";
+    let marker = bytes
+        .windows(start.len())
+        .position(|w| w == start)
+        .expect("appended data")
+        + start.len();
+    let xml = std::str::from_utf8(&bytes[..marker]).expect("UTF-8 header");
+    let data = &bytes[marker..];
+    let attr = |tag: &str, key: &str| -> String {
+        let at = tag.find(&format!("{key}=\"")).expect(key) + key.len() + 2;
+        tag[at..at + tag[at..].find('"').unwrap()].to_owned()
+    };
+    let mut out = Vec::new();
+    for tag in xml.split("<DataArray ").skip(1) {
+        let tag = &tag[..tag.find("/>").expect("empty element")];
+        assert_eq!(attr(tag, "format"), "appended");
+        let (ty, name) = (attr(tag, "type"), attr(tag, "Name"));
+        let offset: usize = attr(tag, "offset").parse().unwrap();
+        let len = u64::from_le_bytes(data[offset..offset + 8].try_into().unwrap()) as usize;
+        let body = &data[offset + 8..offset + 8 + len];
+        let values: Vec<String> = match ty.as_str() {
+            "Float64" => body
+                .chunks(8)
+                .map(|c| {
+                    let x = f64::from_le_bytes(c.try_into().unwrap());
+                    let mut s = String::new();
+                    super::push_f64(&mut s, x);
+                    s
+                })
+                .collect(),
+            "Int64" => body
+                .chunks(8)
+                .map(|c| i64::from_le_bytes(c.try_into().unwrap()).to_string())
+                .collect(),
+            "UInt8" => body.iter().map(|b| b.to_string()).collect(),
+            other => panic!("type {other}"),
+        };
+        out.push((name, ty, values));
+    }
+    // The last array ends where the closing tags begin.
+    let (_, ty, values) = out.last().expect("arrays");
+    let size = if ty == "UInt8" { 1 } else { 8 };
+    let last = xml.rfind("offset=\"").expect("an offset") + 8;
+    let offset: usize = xml[last..last + xml[last..].find('"').unwrap()]
+        .parse()
+        .unwrap();
+    assert_eq!(
+        &data[offset + 8 + values.len() * size..],
+        b"\n  </AppendedData>\n</VTKFile>\n"
+    );
+    out
+}
+
+#[test]
+fn binary_form_holds_the_ascii_forms_arrays() {
+    let mp = tet();
+    let mut w = VtuWriter::new(&mp);
+    w.extra_points(&[Point::new(0.25, 0.25, f64::NAN)]);
+    w.point_line_cells(&[[0, 4]]);
+    w.point_data(
+        "gap",
+        DataArray::F64 {
+            components: 1,
+            values: vec![0.5, -1e-300, f64::INFINITY, 3.0],
+        },
+    );
+    w.cell_data(
+        "c",
+        DataArray::I64 {
+            components: 1,
+            values: vec![-1, 2, 3],
+        },
+    );
+    let xml = w.to_xml("t.vtu").unwrap();
+    let mut bytes = Vec::new();
+    w.write_binary("t.vtu", &mut bytes).unwrap();
+    assert!(bytes.starts_with(b"<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\""));
+    let arrays = appended_arrays(&bytes);
+    let names: Vec<&str> = arrays.iter().map(|(n, _, _)| n.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "node_id",
+            "gap",
+            "entity_id",
+            "entity_kind",
+            "c",
+            "Points",
+            "connectivity",
+            "offsets",
+            "types"
+        ]
+    );
+    for (name, ty, values) in &arrays {
+        assert_eq!(values, &array(&xml, name), "{name}");
+        assert!(
+            xml.contains(&format!("type=\"{ty}\" Name=\"{name}\"")),
+            "{name}"
+        );
+    }
+    // Same input, same bytes.
+    let mut again = Vec::new();
+    w.write_binary("t.vtu", &mut again).unwrap();
+    assert_eq!(again, bytes);
+}
