@@ -2,7 +2,13 @@
 //!
 //! - `cargo xtask ci`: exactly what CI runs: `cargo fmt --check`, `cargo clippy -D warnings`
 //!   over every target, `cargo doc -D warnings` (every intra-doc link resolves), every test
-//!   (insta snapshots fail when missing or changed), then the feature matrix.
+//!   (insta snapshots fail when missing or changed), the Python package's tests, then the
+//!   feature matrix.
+//! - `cargo xtask python`: the Python package as a user gets it: `pip install .[test]` into
+//!   the virtual environment `target/py-venv` (made on first use with `python3 -m venv`; pip
+//!   fetches maturin, numpy, pytest and meshio), then the pytest suite `python/tests`, which
+//!   compares with the `csm` binary of `target/debug` (built first) and the Kratos fixtures.
+//!   `cargo xtask ci` runs it after the Rust tests.
 //! - `cargo xtask features`: the feature matrix alone: `cargo clippy -D warnings` of the
 //!   facade with no feature and with each feature alone, of `csm-io` likewise, and `csm-io`'s
 //!   unit tests without its default features (a user of one layer or one format compiles
@@ -53,6 +59,8 @@ enum Task {
     Snapshots,
     /// The feature matrix alone.
     Features,
+    /// `pip install .[test]` into target/py-venv, then the pytest suite.
+    Python,
     /// Regenerate the Kratos reference fixtures (needs Kratos 10.4.4 from PyPI).
     Fixtures,
     /// csm against Kratos on generated scenes; writes docs/performance.md.
@@ -68,6 +76,7 @@ fn main() -> Result<()> {
         Task::Ci => ci(),
         Task::Snapshots => snapshots(),
         Task::Features => features(),
+        Task::Python => python(),
         Task::Fixtures => fixtures(),
         Task::Bench(options) => bench::bench(&options),
         Task::Scaling(options) => scaling::scaling(&options),
@@ -117,6 +126,7 @@ fn ci() -> Result<()> {
         &[("RUSTDOCFLAGS", "-D warnings")],
     )?;
     cargo(&["test", "--workspace", "--all-targets"], &TEST_ENV)?;
+    python()?;
     features()?;
     eprintln!("xtask ci: all checks passed");
     Ok(())
@@ -201,6 +211,36 @@ fn run(program: &str, args: &[&str], envs: &[(&str, &str)]) -> Result<()> {
         bail!("{program} {} failed ({status})", args.join(" "));
     }
     Ok(())
+}
+
+/// The Python package's tests (see the module docs): the package is built and installed
+/// exactly as `pip install .` does for a user, in release mode.
+fn python() -> Result<()> {
+    cargo(&["build", "--bin", "csm"], &[])?;
+    let venv = workspace_root().join("target/py-venv");
+    let python = venv.join("bin/python");
+    if !python.exists() {
+        let system = std::env::var("CSM_PYTHON").unwrap_or_else(|_| "python3".to_owned());
+        run(&system, &["-m", "venv", &venv.to_string_lossy()], &[]).with_context(|| {
+            format!(
+                "cannot make the virtual environment {} with {system}: install Python 3.9 or                  later with its venv module (Debian: `apt install python3-venv`), or set                  CSM_PYTHON to such a Python",
+                venv.display()
+            )
+        })?;
+    }
+    let python = python.to_string_lossy().into_owned();
+    let pip_env = [("PIP_DISABLE_PIP_VERSION_CHECK", "1")];
+    run(
+        &python,
+        &["-m", "pip", "install", "--quiet", ".[test]"],
+        &pip_env,
+    )?;
+    let csm_bin = workspace_root().join("target/debug/csm");
+    run(
+        &python,
+        &["-m", "pytest", "-q", "python/tests"],
+        &[("CSM_BIN", &csm_bin.to_string_lossy())],
+    )
 }
 
 fn kratos_python() -> Result<String> {

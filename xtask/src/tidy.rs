@@ -9,7 +9,7 @@ use super::workspace_root;
 
 /// The csm crates each crate may depend on (normal, build and dev dependencies alike).
 /// DESIGN.md §1: geometry ← trees; geometry ← model ← io; {geometry, model} ← activation;
-/// {geometry, trees, model, activation} ← search ← eval; everything ← facade.
+/// {geometry, trees, model, activation} ← search ← eval; everything ← facade ← python.
 fn allowed() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
     let all = [
         "csm-geometry",
@@ -46,6 +46,8 @@ fn allowed() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
         ),
         ("csm-chart", BTreeSet::new()),
         ("csm", BTreeSet::from(all)),
+        // The Python binding: over the facade only.
+        ("csm-python", BTreeSet::from(["csm"])),
     ])
 }
 
