@@ -221,9 +221,12 @@ impl ReportText for Report {
         s.push_str(&chart::open(W, H));
         let _ = writeln!(
             s,
-            r#"<text x="{:.1}" y="22" text-anchor="middle" font-size="14">{}: missed true pairs vs search time</text>"#,
-            (LEFT + W - RIGHT) / 2.0,
-            chart::escape(&self.scene)
+            "{}",
+            chart::title(
+                W / 2.0,
+                22.0,
+                &format!("{}: missed true pairs vs search time", self.scene)
+            )
         );
         // Axes and ticks.
         let (bx, by) = (H - BOTTOM, W - RIGHT);

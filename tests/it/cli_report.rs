@@ -182,6 +182,8 @@ fn check_svg(svg: &str, rows: usize) {
     let markers = svg.matches("<title>").count();
     assert_eq!(markers, rows);
     assert!(!svg.contains("NaN") && !svg.contains("inf"));
+    // A title, and every text (the legend's included) within the canvas.
+    assert_eq!(csm_chart::layout_problems(svg), Vec::<String>::new());
 }
 
 #[test]

@@ -126,6 +126,9 @@ pub struct Options {
     /// Runs of each measurement (the fastest counts).
     #[arg(long, default_value_t = 3)]
     repeat: usize,
+    /// Run nothing: redraw docs/performance.svg from the figures of docs/performance.json.
+    #[arg(long)]
+    chart_only: bool,
 }
 
 /// Runs `program args` under `/usr/bin/time`; returns (wall s, peak kB).
@@ -255,6 +258,13 @@ fn n_log_n_exponent(ns: &[f64]) -> Option<f64> {
 /// `cargo xtask bench`.
 pub fn bench(o: &Options) -> Result<()> {
     let root = workspace_root();
+    if o.chart_only {
+        let text = std::fs::read_to_string(root.join("docs/performance.json"))?;
+        let rows = rows_from_json(&serde_json::from_str(&text)?)?;
+        std::fs::write(root.join("docs/performance.svg"), svg(&rows))?;
+        eprintln!("wrote docs/performance.svg from docs/performance.json");
+        return Ok(());
+    }
     crate::cargo(&["build", "--release", "--bin", "csm"], &[])?;
     let csm = root.join("target/release/csm");
     // Kratos (installed into target/kratos-venv on first use, or KRATOS_PYTHON) only when
@@ -425,6 +435,43 @@ fn rows_json(rows: &[Row]) -> Value {
                    "csm_2_threads": run_json(&r.csm2),
                    "csm_robust_1_thread": r.robust1.as_ref().map(run_json),
                    "kratos": r.kratos.as_ref().map(run_json)})
+        })
+        .collect()
+}
+
+/// The rows of [`rows_json`]'s JSON, for the chart: the pairs themselves are not kept there
+/// (only their count), so every run's `pairs` is null.
+fn rows_from_json(rows: &Value) -> Result<Vec<Row>> {
+    let run = |v: &Value| -> Option<Run> {
+        Some(Run {
+            wall: v["wall_s"].as_f64()?,
+            rss_kb: v["peak_rss_kb"].as_u64()?,
+            timings: serde_json::from_value(v["timings_s"].clone()).ok()?,
+            pairs: Value::Null,
+        })
+    };
+    let rows = rows
+        .as_array()
+        .context("docs/performance.json: expected an array of rows")?;
+    rows.iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let text = |k: &str| r[k].as_str().map(str::to_owned);
+            let count = |k: &str| r[k].as_u64().map(|n| n as usize);
+            (|| {
+                Some(Row {
+                    scene: text("scene")?,
+                    size: text("size")?,
+                    slave: count("slave_faces")?,
+                    master: count("master_faces")?,
+                    type_search: text("type_search")?,
+                    csm1: run(&r["csm_1_thread"])?,
+                    csm2: run(&r["csm_2_threads"])?,
+                    robust1: run(&r["csm_robust_1_thread"]),
+                    kratos: run(&r["kratos"]),
+                })
+            })()
+            .with_context(|| format!("docs/performance.json: row {i} lacks a field of a row"))
         })
         .collect()
 }
@@ -692,7 +739,7 @@ fn report(rows: &[Row], o: &Options) -> Result<String> {
 /// Log–log plot of the search-step time against slave faces: Kratos, csm 1 and 2 threads,
 /// per scene (default type_search).
 fn svg(rows: &[Row]) -> String {
-    let (w, h, left, right, top, bottom) = (720.0, 480.0, 70.0, 200.0, 20.0, 50.0);
+    let (plot_w, h, left, top, bottom) = (450.0, 480.0, 70.0, 40.0, 50.0);
     let rows: Vec<&Row> = rows.iter().filter(|r| r.type_search == TYPES[0]).collect();
     let mut series: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
     for r in &rows {
@@ -718,7 +765,19 @@ fn svg(rows: &[Row]) -> String {
         .copied()
         .filter(|(n, t)| *n > 0.0 && *t > 0.0)
         .collect();
+    // The legend's room follows its longest label: every label fits the canvas.
+    let right = chart::legend_width(series.keys().map(String::as_str));
+    let w = left + plot_w + right;
     let mut out = chart::open(w, h);
+    let _ = writeln!(
+        out,
+        "{}",
+        chart::title(
+            w / 2.0,
+            24.0,
+            "Search step against slave faces: Kratos and csm (log–log)"
+        )
+    );
     if all.is_empty() {
         out.push_str(chart::close());
         return out;
@@ -811,6 +870,38 @@ fn svg(rows: &[Row]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_chart_has_a_title_and_fits_its_canvas() {
+        let run = |t: f64| Run {
+            wall: t,
+            rss_kb: 1,
+            timings: BTreeMap::from([("search".to_owned(), t)]),
+            pairs: Value::Null,
+        };
+        let rows: Vec<Row> = ["sphere_on_plate", "stacked_blocks"]
+            .iter()
+            .flat_map(|scene| {
+                [(1e3, 0.01), (2e5, 3.0)].map(|(n, t)| Row {
+                    scene: (*scene).to_owned(),
+                    size: format!("{n}"),
+                    slave: n as usize,
+                    master: n as usize,
+                    type_search: TYPES[0].to_owned(),
+                    csm1: run(t / 10.0),
+                    csm2: run(t / 20.0),
+                    robust1: None,
+                    kratos: Some(run(t)),
+                })
+            })
+            .collect();
+        let svg = svg(&rows);
+        assert_eq!(svg.matches("<polyline").count(), 6);
+        assert_eq!(chart::layout_problems(&svg), Vec::<String>::new());
+        // The JSON of the rows gives the same chart back.
+        let back = rows_from_json(&rows_json(&rows)).unwrap();
+        assert_eq!(super::svg(&back), svg);
+    }
 
     #[test]
     fn growth_exponent_of_a_power_law() {

@@ -559,18 +559,27 @@ fn scenes_json(scenes: &[SceneRuns], machine: &str) -> Value {
     json!({"machine": machine, "scenes": scenes})
 }
 
+/// The lines of [`svg`] per scene: its phases and the whole process.
+const PHASES: [&str; 4] = ["read", "initialize", "search", "whole"];
+
 /// Speed-up against threads (both axes log 2) for the phases and the whole process of every
 /// scene, with the ideal line.
 fn svg(scenes: &[SceneRuns]) -> String {
-    let (w, h, left, right, top, bottom) = (760.0, 440.0, 60.0, 260.0, 40.0, 50.0);
+    let (plot_w, h, left, top, bottom) = (440.0, 440.0, 60.0, 40.0, 50.0);
+    // The legend's room follows its longest label: every label fits the canvas.
+    let labels: Vec<String> = scenes
+        .iter()
+        .flat_map(|sc| PHASES.iter().map(move |p| format!("{}: {p}", sc.name)))
+        .collect();
+    let right = chart::legend_width(labels.iter().map(String::as_str).chain(["ideal"]));
+    let w = left + plot_w + right;
     let mut out = chart::open(w, h);
     let _ = writeln!(
         out,
         "{}",
-        chart::text(
+        chart::title(
             w / 2.0,
             22.0,
-            " text-anchor=\"middle\" font-weight=\"bold\"",
             "csm: speed-up against threads (fastest of the runs)"
         )
     );
@@ -634,7 +643,7 @@ fn svg(scenes: &[SceneRuns]) -> String {
     let styles = ["", " stroke-dasharray=\"6 3\"", " stroke-dasharray=\"1 3\""];
     for (i, sc) in scenes.iter().enumerate() {
         let style = styles[i % styles.len()];
-        for (j, phase) in ["read", "initialize", "search", "whole"].iter().enumerate() {
+        for (j, phase) in PHASES.iter().enumerate() {
             let time = |f: &Fastest| {
                 if *phase == "whole" {
                     f.wall
@@ -675,6 +684,31 @@ fn svg(scenes: &[SceneRuns]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_chart_has_a_title_and_fits_its_canvas() {
+        let fastest = |t: f64| Fastest {
+            runs: 1,
+            wall: t,
+            rss_kb: 1,
+            phases: PHASES[..3]
+                .iter()
+                .map(|p| ((*p).to_owned(), t / 3.0))
+                .collect(),
+            stages: Vec::new(),
+        };
+        let scenes: Vec<SceneRuns> = ["stacked_blocks_1e5", "sphere_on_plate_2e5"]
+            .iter()
+            .map(|name| SceneRuns {
+                name: (*name).to_owned(),
+                slave: None,
+                by_threads: vec![(1, fastest(2.0)), (2, fastest(1.2)), (16, fastest(0.3))],
+            })
+            .collect();
+        let svg = svg(&scenes);
+        assert_eq!(svg.matches("<polyline").count(), 1 + 2 * PHASES.len());
+        assert_eq!(chart::layout_problems(&svg), Vec::<String>::new());
+    }
 
     #[test]
     fn serial_fraction_and_amdahl_invert_each_other() {

@@ -59,6 +59,102 @@ pub fn polyline(pts: &[(f64, f64)], stroke: &str, extra: &str) -> String {
     )
 }
 
+/// The font size of the charts' text ([`open`]'s), in px.
+pub const FONT_SIZE: f64 = 12.0;
+
+/// The font size of a chart's [`title`], in px.
+pub const TITLE_SIZE: f64 = 14.0;
+
+/// An upper estimate of the width of `s` drawn at `font_size` px in the viewer's sans-serif
+/// font: 0.62 em per character (DejaVu Sans, the widest common default, averages 0.55 em on
+/// lowercase text and 0.64 em on digits). Entities (`&amp;`) count as one character.
+pub fn text_width(s: &str, font_size: f64) -> f64 {
+    let mut chars = 0usize;
+    let mut in_entity = false;
+    for c in s.chars() {
+        match c {
+            '&' => {
+                in_entity = true;
+                chars += 1;
+            }
+            ';' if in_entity => in_entity = false,
+            _ if in_entity => {}
+            _ => chars += 1,
+        }
+    }
+    chars as f64 * 0.62 * font_size
+}
+
+/// The width a legend of [`legend_entry`]s with `labels` needs right of the plot: a 10-unit
+/// gap, the 24-unit sample, the longest label, a 10-unit margin.
+pub fn legend_width<'a>(labels: impl IntoIterator<Item = &'a str>) -> f64 {
+    let longest = labels
+        .into_iter()
+        .map(|l| text_width(l, FONT_SIZE))
+        .fold(0.0, f64::max);
+    10.0 + 24.0 + longest + 10.0
+}
+
+/// The chart's title, centred on `x` with its baseline at `y` ([`TITLE_SIZE`]); escaped.
+pub fn title(x: f64, y: f64, content: &str) -> String {
+    format!(
+        "<text x=\"{x:.1}\" y=\"{y:.1}\" text-anchor=\"middle\" font-size=\"{TITLE_SIZE}\" \
+         class=\"title\">{}</text>",
+        escape(content)
+    )
+}
+
+/// What keeps the chart `svg` (as this crate writes it) from being complete: no [`title`], or
+/// a text that reaches outside the canvas by [`text_width`] (rotated texts by their anchor
+/// point). Empty when the chart is fine.
+pub fn layout_problems(svg: &str) -> Vec<String> {
+    let attr = |tag: &str, key: &str| -> Option<String> {
+        let at = tag.find(&format!(" {key}=\""))? + key.len() + 3;
+        Some(tag[at..at + tag[at..].find('"')?].to_owned())
+    };
+    let number = |tag: &str, key: &str| attr(tag, key).and_then(|v| v.parse::<f64>().ok());
+    let mut problems = Vec::new();
+    let Some(head) = svg.split('>').next() else {
+        return vec!["no <svg> element".to_owned()];
+    };
+    let (Some(width), Some(height)) = (number(head, "width"), number(head, "height")) else {
+        return vec!["the <svg> element has no width or height".to_owned()];
+    };
+    if !svg.contains("class=\"title\"") {
+        problems.push("no title".to_owned());
+    }
+    for piece in svg.split("<text").skip(1) {
+        let Some(close) = piece.find('>') else {
+            continue;
+        };
+        let tag = &piece[..close];
+        let content = &piece[close + 1..piece.find("</text>").unwrap_or(close + 1)];
+        let (x, y) = (
+            number(tag, "x").unwrap_or(0.0),
+            number(tag, "y").unwrap_or(0.0),
+        );
+        let size = number(tag, "font-size").unwrap_or(FONT_SIZE);
+        let w = if tag.contains("transform=") {
+            0.0
+        } else {
+            text_width(content, size)
+        };
+        let (x0, x1) = match attr(tag, "text-anchor").as_deref() {
+            Some("middle") => (x - w / 2.0, x + w / 2.0),
+            Some("end") => (x - w, x),
+            _ => (x, x + w),
+        };
+        if x0 < 0.0 || x1 > width || y - size < -1.0 || y > height {
+            problems.push(format!(
+                "text `{content}` spans x {x0:.0}..{x1:.0}, y {:.0}..{y:.0}: outside the \
+                 {width} × {height} canvas",
+                y - size
+            ));
+        }
+    }
+    problems
+}
+
 /// A legend entry at `(x, y)`: a 20-unit sample of the line (`stroke`, `extra` as [`line()`]'s)
 /// and the escaped `label` after it, on two lines of the document.
 pub fn legend_entry(x: f64, y: f64, stroke: &str, extra: &str, label: &str) -> String {
@@ -72,6 +168,26 @@ pub fn legend_entry(x: f64, y: f64, stroke: &str, extra: &str, label: &str) -> S
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn layout_problems_finds_a_cut_legend_and_a_missing_title() {
+        let label = "stacked_blocks csm 2 threads";
+        let mut svg = open(300.0, 100.0);
+        svg.push_str(&legend_entry(200.0, 50.0, "red", "", label));
+        svg.push_str(close());
+        let problems = layout_problems(&svg);
+        assert_eq!(problems.len(), 2, "{problems:?}");
+        assert_eq!(problems[0], "no title");
+        assert!(problems[1].starts_with("text `stacked_blocks csm 2 threads` spans x 224..432"));
+        // Room for the legend and a title: nothing to report.
+        let w = 200.0 + legend_width([label]);
+        let mut svg = open(w, 100.0);
+        svg.push_str(&title(w / 2.0, 20.0, "a & b"));
+        svg.push_str(&legend_entry(200.0 + 10.0, 50.0, "red", "", label));
+        svg.push_str(close());
+        assert_eq!(layout_problems(&svg), Vec::<String>::new());
+        assert_eq!(text_width("a &amp; b", 10.0), 5.0 * 6.2);
+    }
 
     #[test]
     fn a_legend_entry_is_a_sample_line_and_escaped_text() {
