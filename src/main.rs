@@ -344,14 +344,18 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
             std::fs::create_dir_all(&output)
                 .map_err(|e| format!("{}: cannot create the folder: {e}", output.display()))?;
             let json_path = output.join("RESULT.json");
+            let writing = Instant::now();
             write_result(&json_path, &result, &timings)?;
+            let json_s = writing.elapsed().as_secs_f64();
             let vtu_path = output.join("demo.vtu");
+            let writing = Instant::now();
             csm::cli::write_search_vtu(&scene.model, &result, &vtu_path, vtu_format(vtk_ascii))?;
+            let vtu_s = writing.elapsed().as_secs_f64();
             if !quiet {
                 print!("{}", csm::cli::demo_summary(&scene, &result, &timings));
                 print!("{}", truth.line());
                 println!(
-                    "wrote {} and {} (open it in ParaView)",
+                    "wrote {} ({json_s:.3} s) and {} ({vtu_s:.3} s; open it in ParaView)",
                     json_path.display(),
                     vtu_path.display()
                 );

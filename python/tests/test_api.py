@@ -255,7 +255,7 @@ def appended_arrays(data: bytes):
 
     start = data.index(b'<AppendedData encoding="raw">\n   _') + len(b'<AppendedData encoding="raw">\n   _')
     header = data[:start].decode()
-    types = {"Int64": "<i8", "Float64": "<f8", "UInt8": "u1"}
+    types = {"Int64": "<i8", "Int32": "<i4", "Int8": "i1", "Float64": "<f8", "UInt8": "u1"}
     out = []
     for m in re.finditer(r'<DataArray type="(\w+)" Name="(\w+)" NumberOfComponents="\d+" format="appended" offset="(\d+)"/>', header):
         at = start + int(m.group(3))

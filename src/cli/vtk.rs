@@ -6,7 +6,7 @@
 //! - Cells: the elements, the conditions, then one line cell per (slave, master) pair from the
 //!   slave condition's centre to the master's, in pair key, slave id, master id order.
 //! - Point data: `SLAVE`, `MASTER`, `ACTIVE`, `INTERFACE` as 1 (true), 0 (false) or −1
-//!   (undefined, Kratos' tri-state flags), `normal_gap` (NaN where RESULT.json has null);
+//!   (undefined, Kratos' tri-state flags; `Int8`, as the cell data's flags), `normal_gap` (NaN where RESULT.json has null);
 //!   centre points get −1 and NaN. Built-in: `node_id`.
 //! - Cell data: `SLAVE`, `MASTER`, `ACTIVE` of the conditions (−1 on elements and pairs),
 //!   `condition_id` (the condition's id; the slave's on a pair; −1 on elements),
@@ -22,7 +22,7 @@ use csm_model::{Flag, Flags, ModelPart};
 use csm_search::SearchResult;
 
 /// 1, 0 or −1 (undefined).
-fn tri_state(flags: &Flags, flag: Flag) -> i64 {
+fn tri_state(flags: &Flags, flag: Flag) -> i8 {
     if !flags.is_defined(flag) {
         -1
     } else if flags.is(flag) {
@@ -34,6 +34,14 @@ fn tri_state(flags: &Flags, flag: Flag) -> i64 {
 
 fn ints(values: Vec<i64>) -> DataArray {
     DataArray::I64 {
+        components: 1,
+        values,
+    }
+}
+
+/// Tri-state flags (`Int8`).
+fn flags(values: Vec<i8>) -> DataArray {
+    DataArray::I8 {
         components: 1,
         values,
     }
@@ -99,7 +107,7 @@ pub fn search_vtu<'a>(model: &'a ModelPart, result: &SearchResult) -> VtuWriter<
     ] {
         w.point_data(
             name,
-            ints(node_flags.iter().map(|f| tri_state(f, flag)).collect()),
+            flags(node_flags.iter().map(|f| tri_state(f, flag)).collect()),
         );
     }
     let mut gap = vec![f64::NAN; n_nodes];
@@ -125,11 +133,11 @@ pub fn search_vtu<'a>(model: &'a ModelPart, result: &SearchResult) -> VtuWriter<
         ("MASTER", Flag::MASTER),
         ("ACTIVE", Flag::ACTIVE),
     ] {
-        let values = undefined(n_elements)
+        let values = std::iter::repeat_n(-1, n_elements)
             .chain(cond_flags.iter().map(|f| tri_state(f, flag)))
-            .chain(undefined(n_pairs))
+            .chain(std::iter::repeat_n(-1, n_pairs))
             .collect();
-        w.cell_data(name, ints(values));
+        w.cell_data(name, flags(values));
     }
     let cond_ids = model.conditions().ids();
     let id = |i: usize| i64::from(cond_ids[i]);

@@ -2,7 +2,7 @@
 
 use serde_json::Value;
 
-use crate::cli_search::check_vtu;
+use crate::cli_search::{check_vtu, check_vtu_file};
 use crate::{csm, scratch};
 
 #[test]
@@ -28,7 +28,22 @@ fn small_demo_writes_both_files_and_a_summary() {
     let n_pairs: usize = slaves.values().map(|m| m.as_array().unwrap().len()).sum();
     assert!(n_pairs > 0);
     assert!(stdout.contains(&format!("{n_pairs} pairs")), "{stdout}");
-    let s = check_vtu(&std::fs::read_to_string(dir.join("demo.vtu")).unwrap());
+    let s = check_vtu_file(&dir.join("demo.vtu"));
+    // `--vtk-ascii` writes the same arrays as text.
+    let ascii = scratch("demo_small_ascii");
+    let _ = std::fs::remove_dir_all(&ascii);
+    let out = csm(&[
+        "demo",
+        "--faces",
+        "2000",
+        "-o",
+        ascii.to_str().unwrap(),
+        "--vtk-ascii",
+        "--quiet",
+    ]);
+    assert!(out.status.success());
+    let text = std::fs::read_to_string(ascii.join("demo.vtu")).unwrap();
+    assert_eq!(check_vtu(&text), s);
     // 32 × 32 × 2 hexahedra, 2 × 22 × 22 prisms, the faces, the pairs.
     assert_eq!(s.cells_of_type(12), 2048);
     assert_eq!(s.cells_of_type(13), 968);

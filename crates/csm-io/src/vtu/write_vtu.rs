@@ -5,9 +5,10 @@
 //! condition centres) in the order given. Cells are the elements, then the conditions, then
 //! the line cells, each in dense order. Built-in arrays: point data `node_id` (−1 on extra
 //! points); cell data `entity_id` (the file id; the index of the line for line cells) and
-//! `entity_kind` (0 element, 1 condition, 2 line cell). A point data array holds one tuple per
-//! point, or one per node only: then it is padded on the extra points with NaN (`Float64`) or
-//! −1 (`Int64`). In the ASCII form floats are written in Rust's
+//! `entity_kind` (0 element, 1 condition, 2 line cell; `Int8`); `connectivity` and `offsets`
+//! are `Int32` while the point and connectivity counts fit, else `Int64`. A point data array
+//! holds one tuple per point, or one per node only: then it is padded on the extra points with
+//! NaN (`Float64`) or −1 (the integer types). In the ASCII form floats are written in Rust's
 //! shortest round-trip scientific form (`{:e}`, e.g. `2.5e-1`), NaN as `nan`, infinities as
 //! `inf`/`-inf`; the output is byte-identical for the same input.
 
@@ -38,28 +39,112 @@ pub enum DataArray {
         /// The values, tuple after tuple.
         values: Vec<i64>,
     },
+    /// `Int32` values.
+    I32 {
+        /// Components per tuple.
+        components: usize,
+        /// The values, tuple after tuple.
+        values: Vec<i32>,
+    },
+    /// `Int8` values (flags, small codes).
+    I8 {
+        /// Components per tuple.
+        components: usize,
+        /// The values, tuple after tuple.
+        values: Vec<i8>,
+    },
+}
+
+/// A value type of the file: its VTK name, its padding (NaN, −1), its text and its bytes.
+trait Value: Copy {
+    const TYPE: &'static str;
+    const PAD: Self;
+    const SIZE: usize;
+    fn text(self, out: &mut String);
+    fn bytes(self, out: &mut [u8]);
+}
+
+macro_rules! integer_value {
+    ($t:ty, $name:literal, $pad:expr) => {
+        impl Value for $t {
+            const TYPE: &'static str = $name;
+            const PAD: Self = $pad;
+            const SIZE: usize = std::mem::size_of::<$t>();
+            fn text(self, out: &mut String) {
+                let _ = write!(out, "{self}");
+            }
+            fn bytes(self, out: &mut [u8]) {
+                out.copy_from_slice(&self.to_le_bytes());
+            }
+        }
+    };
+}
+integer_value!(i64, "Int64", -1);
+integer_value!(i32, "Int32", -1);
+integer_value!(i8, "Int8", -1);
+// Cell types are never padded.
+integer_value!(u8, "UInt8", 0);
+
+impl Value for f64 {
+    const TYPE: &'static str = "Float64";
+    const PAD: Self = f64::NAN;
+    const SIZE: usize = 8;
+    fn text(self, out: &mut String) {
+        push_f64(out, self);
+    }
+    fn bytes(self, out: &mut [u8]) {
+        out.copy_from_slice(&self.to_le_bytes());
+    }
+}
+
+/// `$body` with `$values` bound to the array's values (a slice of its type).
+macro_rules! with_values {
+    ($array:expr, $values:ident => $body:expr) => {
+        match $array {
+            DataArray::F64 {
+                values: $values, ..
+            } => $body,
+            DataArray::I64 {
+                values: $values, ..
+            } => $body,
+            DataArray::I32 {
+                values: $values, ..
+            } => $body,
+            DataArray::I8 {
+                values: $values, ..
+            } => $body,
+        }
+    };
 }
 
 impl DataArray {
     fn type_name(&self) -> &'static str {
         match self {
-            DataArray::F64 { .. } => "Float64",
-            DataArray::I64 { .. } => "Int64",
+            DataArray::F64 { .. } => f64::TYPE,
+            DataArray::I64 { .. } => i64::TYPE,
+            DataArray::I32 { .. } => i32::TYPE,
+            DataArray::I8 { .. } => i8::TYPE,
         }
     }
 
     fn components(&self) -> usize {
         match self {
-            DataArray::F64 { components, .. } | DataArray::I64 { components, .. } => {
-                (*components).max(1)
-            }
+            DataArray::F64 { components, .. }
+            | DataArray::I64 { components, .. }
+            | DataArray::I32 { components, .. }
+            | DataArray::I8 { components, .. } => (*components).max(1),
         }
     }
 
     fn len(&self) -> usize {
+        with_values!(self, values => values.len())
+    }
+
+    fn value_size(&self) -> usize {
         match self {
-            DataArray::F64 { values, .. } => values.len(),
-            DataArray::I64 { values, .. } => values.len(),
+            DataArray::F64 { .. } | DataArray::I64 { .. } => 8,
+            DataArray::I32 { .. } => 4,
+            DataArray::I8 { .. } => 1,
         }
     }
 }
@@ -92,44 +177,69 @@ fn escape(name: &str) -> String {
         .replace('"', "&quot;")
 }
 
-fn write_array(out: &mut String, name: &str, a: &DataArray) {
-    let (ty, n) = match a {
-        DataArray::F64 { .. } => ("Float64", a.components()),
-        DataArray::I64 { .. } => ("Int64", a.components()),
-    };
+/// An ASCII data array: `values` then padding up to `len` values, `per_line` a line.
+fn write_ascii<T: Value>(
+    out: &mut String,
+    name: &str,
+    components: usize,
+    (values, len): (&[T], usize),
+) {
     let _ = writeln!(
         out,
-        "        <DataArray type=\"{ty}\" Name=\"{}\" NumberOfComponents=\"{n}\" format=\"ascii\">",
+        "        <DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{components}\" format=\"ascii\">",
+        T::TYPE,
         escape(name)
     );
-    let per_line = n.max(1);
-    match a {
-        DataArray::F64 { values, .. } => {
-            for chunk in values.chunks(per_line) {
-                out.push_str("          ");
-                for (k, &x) in chunk.iter().enumerate() {
-                    if k > 0 {
-                        out.push(' ');
-                    }
-                    push_f64(out, x);
-                }
-                out.push('\n');
+    let padding = std::iter::repeat_n(T::PAD, len.saturating_sub(values.len()));
+    let all: Vec<T> = values.iter().copied().chain(padding).collect();
+    for chunk in all.chunks(components.max(1)) {
+        out.push_str("          ");
+        for (k, &x) in chunk.iter().enumerate() {
+            if k > 0 {
+                out.push(' ');
             }
+            x.text(out);
         }
-        DataArray::I64 { values, .. } => {
-            for chunk in values.chunks(per_line) {
-                out.push_str("          ");
-                for (k, x) in chunk.iter().enumerate() {
-                    if k > 0 {
-                        out.push(' ');
-                    }
-                    let _ = write!(out, "{x}");
-                }
-                out.push('\n');
-            }
-        }
+        out.push('\n');
     }
     out.push_str("        </DataArray>\n");
+}
+
+/// The byte count (`UInt64`) and the little-endian bytes of `len` values: those of `values`,
+/// then padding, a block at a time.
+fn write_raw<T: Value>(
+    out: &mut impl Write,
+    values: impl Iterator<Item = T>,
+    len: usize,
+) -> std::io::Result<()> {
+    out.write_all(&((len * T::SIZE) as u64).to_le_bytes())?;
+    let mut buffer = vec![0u8; (1 << 14) * T::SIZE];
+    let mut all = values.chain(std::iter::repeat(T::PAD)).take(len);
+    loop {
+        let mut n = 0;
+        for (slot, v) in buffer.chunks_exact_mut(T::SIZE).zip(all.by_ref()) {
+            v.bytes(slot);
+            n += 1;
+        }
+        if n == 0 {
+            return Ok(());
+        }
+        out.write_all(&buffer[..n * T::SIZE])?;
+    }
+}
+
+/// [`write_raw`] of integers as `Int32` (`narrow`: every value fits) or `Int64`.
+fn write_int(
+    out: &mut impl Write,
+    values: impl Iterator<Item = i64>,
+    len: usize,
+    narrow: bool,
+) -> std::io::Result<()> {
+    if narrow {
+        write_raw(out, values.map(|v| v as i32), len)
+    } else {
+        write_raw(out, values, len)
+    }
 }
 
 impl<'a> VtuWriter<'a> {
@@ -172,7 +282,7 @@ impl<'a> VtuWriter<'a> {
     }
 
     /// Adds a point data array: one tuple per point, or one per node (dense order), padded on
-    /// the extra points with NaN (`Float64`) or −1 (`Int64`).
+    /// the extra points with NaN (`Float64`) or −1 (the integer types).
     pub fn point_data(&mut self, name: &str, data: DataArray) -> &mut Self {
         self.point_data.push((name.to_owned(), data));
         self
@@ -189,9 +299,9 @@ impl<'a> VtuWriter<'a> {
         self.model.elements().len() + self.model.conditions().len() + self.lines.len()
     }
 
-    /// The arrays of the file, checked: errors if a data array has the wrong length or a
-    /// line cell names a point that does not exist.
-    fn grid(&self, file_name: &str) -> Result<Grid<'_>, Error> {
+    /// Errors if a data array has the wrong length or a line cell names a point that does not
+    /// exist.
+    fn check(&self, file_name: &str) -> Result<(), Error> {
         let n_nodes = self.model.nodes().len();
         let n_points = self.n_points();
         let n_cells = self.n_cells();
@@ -236,58 +346,52 @@ impl<'a> VtuWriter<'a> {
                 ));
             }
         }
-        let node_ids = self
+        Ok(())
+    }
+
+    /// The arrays of the file, checked: errors if a data array has the wrong length or a
+    /// line cell names a point that does not exist.
+    fn grid(&self, file_name: &str) -> Result<Grid<'_>, Error> {
+        self.check(file_name)?;
+        let (n_points, n_cells) = (self.n_points(), self.n_cells());
+        let node_ids = ids(self
             .model
             .nodes()
             .ids()
             .iter()
             .map(|&i| i64::from(i))
-            .chain(std::iter::repeat_n(-1, self.extra_points.len()))
-            .collect();
-        let mut point_data = vec![Array::owned(
-            "node_id",
-            DataArray::I64 {
-                components: 1,
-                values: node_ids,
-            },
-        )];
-        for (name, a) in &self.point_data {
-            point_data.push(if a.len() == n_points * a.components() {
-                Array::borrowed(name, a)
-            } else {
-                Array::owned(name, padded(a, n_points))
-            });
-        }
+            .collect());
+        let mut point_data = vec![Array::owned("node_id", node_ids, n_points)];
+        point_data.extend(
+            self.point_data
+                .iter()
+                .map(|(name, a)| Array::borrowed(name, a, n_points)),
+        );
         let (mut ids, mut kinds) = (Vec::with_capacity(n_cells), Vec::with_capacity(n_cells));
         for (k, ents) in [self.model.elements(), self.model.conditions()]
             .into_iter()
             .enumerate()
         {
             ids.extend(ents.ids().iter().map(|&i| i64::from(i)));
-            kinds.extend(std::iter::repeat_n(k as i64, ents.len()));
+            kinds.extend(std::iter::repeat_n(k as i8, ents.len()));
         }
         ids.extend((0..self.lines.len()).map(|i| i as i64));
         kinds.extend(std::iter::repeat_n(2, self.lines.len()));
         let mut cell_data = vec![
-            Array::owned(
-                "entity_id",
-                DataArray::I64 {
-                    components: 1,
-                    values: ids,
-                },
-            ),
+            Array::owned("entity_id", self::ids(ids), n_cells),
             Array::owned(
                 "entity_kind",
-                DataArray::I64 {
+                DataArray::I8 {
                     components: 1,
                     values: kinds,
                 },
+                n_cells,
             ),
         ];
         cell_data.extend(
             self.cell_data
                 .iter()
-                .map(|(name, a)| Array::borrowed(name, a)),
+                .map(|(name, a)| Array::borrowed(name, a, n_cells)),
         );
         let xyz: Vec<f64> = self
             .model
@@ -297,8 +401,8 @@ impl<'a> VtuWriter<'a> {
             .chain(&self.extra_points)
             .flat_map(|p| [p.x, p.y, p.z])
             .collect();
-        let mut conn: Vec<i64> = Vec::new();
-        let mut offsets: Vec<i64> = Vec::with_capacity(n_cells);
+        let mut conn: Vec<usize> = Vec::new();
+        let mut offsets: Vec<usize> = Vec::with_capacity(n_cells);
         let mut types: Vec<u8> = Vec::with_capacity(n_cells);
         for ents in [self.model.elements(), self.model.conditions()] {
             for i in 0..ents.len() {
@@ -306,17 +410,17 @@ impl<'a> VtuWriter<'a> {
                 let kind = ents.kind(i);
                 match vtk_permutation(kind) {
                     Some(p) if p.len() == nodes.len() => {
-                        conn.extend(p.iter().map(|&k| nodes[k].index() as i64));
+                        conn.extend(p.iter().map(|&k| nodes[k].index()));
                     }
-                    _ => conn.extend(nodes.iter().map(|n| n.index() as i64)),
+                    _ => conn.extend(nodes.iter().map(|n| n.index())),
                 }
-                offsets.push(conn.len() as i64);
+                offsets.push(conn.len());
                 types.push(vtk_cell_type(kind));
             }
         }
         for l in &self.lines {
-            conn.extend([l[0] as i64, l[1] as i64]);
-            offsets.push(conn.len() as i64);
+            conn.extend(l);
+            offsets.push(conn.len());
             types.push(3);
         }
         Ok(Grid {
@@ -325,8 +429,8 @@ impl<'a> VtuWriter<'a> {
             point_data,
             cell_data,
             points: xyz,
-            connectivity: conn,
-            offsets,
+            connectivity: indices(conn),
+            offsets: indices(offsets),
             types,
         })
     }
@@ -341,37 +445,21 @@ impl<'a> VtuWriter<'a> {
             "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
             g.n_points, g.n_cells
         );
-        out.push_str("      <PointData>\n");
-        for a in &g.point_data {
-            write_array(&mut out, &a.name, a.data.as_ref());
+        for (section, arrays) in [("PointData", &g.point_data), ("CellData", &g.cell_data)] {
+            let _ = writeln!(out, "      <{section}>");
+            for a in arrays {
+                let c = a.data.components();
+                with_values!(&*a.data, values => write_ascii(&mut out, &a.name, c, (values, a.tuples * c)));
+            }
+            let _ = writeln!(out, "      </{section}>");
         }
-        out.push_str("      </PointData>\n");
-        out.push_str("      <CellData>\n");
-        for a in &g.cell_data {
-            write_array(&mut out, &a.name, a.data.as_ref());
-        }
-        out.push_str("      </CellData>\n");
         out.push_str("      <Points>\n");
-        let points = DataArray::F64 {
-            components: 3,
-            values: g.points,
-        };
-        write_array(&mut out, "Points", &points);
+        write_ascii(&mut out, "Points", 3, (&g.points, g.points.len()));
         out.push_str("      </Points>\n");
         out.push_str("      <Cells>\n");
-        write_cells(&mut out, "connectivity", &g.connectivity, &g.offsets);
-        let offsets = DataArray::I64 {
-            components: 1,
-            values: g.offsets,
-        };
-        write_array(&mut out, "offsets", &offsets);
-        out.push_str(
-            "        <DataArray type=\"UInt8\" Name=\"types\" NumberOfComponents=\"1\" format=\"ascii\">\n",
-        );
-        for t in g.types {
-            let _ = writeln!(out, "          {t}");
-        }
-        out.push_str("        </DataArray>\n");
+        write_cells(&mut out, &g.connectivity, &g.offsets);
+        with_values!(&g.offsets, values => write_ascii(&mut out, "offsets", 1, (values, values.len())));
+        write_ascii(&mut out, "types", 1, (&g.types, g.types.len()));
         out.push_str("      </Cells>\n");
         out.push_str(FOOTER);
         Ok(out)
@@ -379,39 +467,39 @@ impl<'a> VtuWriter<'a> {
 
     /// Writes the `.vtu` file in the binary form to `out`: every array as raw little-endian
     /// bytes in one appended block (`<AppendedData encoding="raw">`, each array preceded by
-    /// its byte count as a `UInt64`), what ParaView reads fastest. Errors as
-    /// [`write_file`](Self::write_file); `file_name` names the file in them.
+    /// its byte count as a `UInt64`), what ParaView reads fastest. The arrays are those of
+    /// the ASCII form, with the same types, streamed from the model: nothing of the size of
+    /// the mesh is built. Errors as [`write_file`](Self::write_file); `file_name` names the
+    /// file in them.
     pub fn write_binary(&self, file_name: &str, out: &mut impl Write) -> Result<(), Error> {
-        let g = self.grid(file_name)?;
+        self.check(file_name)?;
         let io =
             |e: std::io::Error| Error::new(file_name, Location::None, ErrorKind::Io(e.to_string()));
-        let points = Array::owned(
-            "Points",
-            DataArray::F64 {
-                components: 3,
-                values: g.points,
-            },
-        );
-        let connectivity = Array::owned(
-            "connectivity",
-            DataArray::I64 {
-                components: 1,
-                values: g.connectivity,
-            },
-        );
-        let offsets = Array::owned(
-            "offsets",
-            DataArray::I64 {
-                components: 1,
-                values: g.offsets,
-            },
-        );
+        let (n_points, n_cells) = (self.n_points(), self.n_cells());
+        let nodes = self.model.nodes();
+        let entities = [self.model.elements(), self.model.conditions()];
+        let n_conn: usize = entities
+            .iter()
+            .map(|e| (0..e.len()).map(|i| e.nodes(i).len()).sum::<usize>())
+            .sum::<usize>()
+            + 2 * self.lines.len();
+        // The built-in arrays' types, as `grid` decides them (`ids`, `indices`).
+        let narrow = |v: i64| i32::try_from(v).is_ok();
+        let node_ids_narrow = nodes.ids().iter().all(|&i| narrow(i64::from(i)));
+        let entity_ids_narrow = entities
+            .iter()
+            .flat_map(|e| e.ids())
+            .all(|&i| narrow(i64::from(i)))
+            && narrow(self.lines.len() as i64);
+        let indices_narrow = narrow(n_points.saturating_sub(1).max(n_conn) as i64);
+        let int = |is_narrow: bool| if is_narrow { i32::TYPE } else { i64::TYPE };
+        let size = |is_narrow: bool| if is_narrow { 4 } else { 8 };
+
         // The XML first, each array with its offset into the appended block.
         let mut xml = String::from(HEADER);
         let _ = writeln!(
             xml,
-            "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
-            g.n_points, g.n_cells
+            "    <Piece NumberOfPoints=\"{n_points}\" NumberOfCells=\"{n_cells}\">"
         );
         let mut offset = 0usize;
         let mut tag = |xml: &mut String, name: &str, ty: &str, components: usize, bytes: usize| {
@@ -422,54 +510,108 @@ impl<'a> VtuWriter<'a> {
             );
             offset += 8 + bytes;
         };
-        let sections: [(&str, &[Array<'_>]); 3] = [
-            ("PointData", &g.point_data),
-            ("CellData", &g.cell_data),
-            ("Points", std::slice::from_ref(&points)),
-        ];
-        for (section, arrays) in sections {
-            let _ = writeln!(xml, "      <{section}>");
-            for a in arrays {
-                let d = a.data.as_ref();
-                tag(
-                    &mut xml,
-                    &a.name,
-                    d.type_name(),
-                    d.components(),
-                    d.len() * 8,
-                );
+        let user = |xml: &mut String,
+                    tag: &mut dyn FnMut(&mut String, &str, &str, usize, usize),
+                    arrays: &[(String, DataArray)],
+                    tuples: usize| {
+            for (name, a) in arrays {
+                let c = a.components();
+                tag(xml, name, a.type_name(), c, tuples * c * a.value_size());
             }
-            let _ = writeln!(xml, "      </{section}>");
-        }
-        xml.push_str("      <Cells>\n");
+        };
+        xml.push_str("      <PointData>\n");
+        tag(
+            &mut xml,
+            "node_id",
+            int(node_ids_narrow),
+            1,
+            n_points * size(node_ids_narrow),
+        );
+        user(&mut xml, &mut tag, &self.point_data, n_points);
+        xml.push_str("      </PointData>\n      <CellData>\n");
+        tag(
+            &mut xml,
+            "entity_id",
+            int(entity_ids_narrow),
+            1,
+            n_cells * size(entity_ids_narrow),
+        );
+        tag(&mut xml, "entity_kind", i8::TYPE, 1, n_cells);
+        user(&mut xml, &mut tag, &self.cell_data, n_cells);
+        xml.push_str("      </CellData>\n      <Points>\n");
+        tag(&mut xml, "Points", f64::TYPE, 3, n_points * 24);
+        xml.push_str("      </Points>\n      <Cells>\n");
         tag(
             &mut xml,
             "connectivity",
-            "Int64",
+            int(indices_narrow),
             1,
-            connectivity.data.as_ref().len() * 8,
+            n_conn * size(indices_narrow),
         );
         tag(
             &mut xml,
             "offsets",
-            "Int64",
+            int(indices_narrow),
             1,
-            offsets.data.as_ref().len() * 8,
+            n_cells * size(indices_narrow),
         );
-        tag(&mut xml, "types", "UInt8", 1, g.types.len());
+        tag(&mut xml, "types", u8::TYPE, 1, n_cells);
         xml.push_str("      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n");
         xml.push_str("  <AppendedData encoding=\"raw\">\n   _");
         out.write_all(xml.as_bytes()).map_err(io)?;
-        let arrays =
-            g.point_data
-                .iter()
-                .chain(&g.cell_data)
-                .chain([&points, &connectivity, &offsets]);
-        for a in arrays {
-            write_raw(out, a.data.as_ref()).map_err(io)?;
+
+        // Then the values, in the same order.
+        let ids = nodes.ids().iter().map(|&i| i64::from(i));
+        write_int(out, ids, n_points, node_ids_narrow).map_err(io)?;
+        for (_, a) in &self.point_data {
+            let len = n_points * a.components();
+            with_values!(a, values => write_raw(out, values.iter().copied(), len)).map_err(io)?;
         }
-        out.write_all(&(g.types.len() as u64).to_le_bytes())
-            .and_then(|()| out.write_all(&g.types))
+        let ids = entities
+            .iter()
+            .flat_map(|e| e.ids().iter().map(|&i| i64::from(i)))
+            .chain((0..self.lines.len()).map(|i| i as i64));
+        write_int(out, ids, n_cells, entity_ids_narrow).map_err(io)?;
+        let kinds = entities
+            .iter()
+            .enumerate()
+            .flat_map(|(k, e)| std::iter::repeat_n(k as i8, e.len()))
+            .chain(std::iter::repeat_n(2, self.lines.len()));
+        write_raw(out, kinds, n_cells).map_err(io)?;
+        for (_, a) in &self.cell_data {
+            let len = n_cells * a.components();
+            with_values!(a, values => write_raw(out, values.iter().copied(), len)).map_err(io)?;
+        }
+        let xyz = nodes
+            .coordinates()
+            .iter()
+            .chain(&self.extra_points)
+            .flat_map(|p| [p.x, p.y, p.z]);
+        write_raw(out, xyz, 3 * n_points).map_err(io)?;
+        let cells = || {
+            entities
+                .iter()
+                .flat_map(|e| (0..e.len()).map(move |i| (e.nodes(i), e.kind(i))))
+        };
+        let conn = cells()
+            .flat_map(|(nodes, kind)| {
+                let p = vtk_permutation(kind).filter(|p| p.len() == nodes.len());
+                (0..nodes.len()).map(move |k| nodes[p.map_or(k, |p| p[k])].index() as i64)
+            })
+            .chain(self.lines.iter().flatten().map(|&i| i as i64));
+        write_int(out, conn, n_conn, indices_narrow).map_err(io)?;
+        let ends = cells()
+            .map(|(nodes, _)| nodes.len())
+            .chain(std::iter::repeat_n(2, self.lines.len()))
+            .scan(0i64, |end, n| {
+                *end += n as i64;
+                Some(*end)
+            });
+        write_int(out, ends, n_cells, indices_narrow).map_err(io)?;
+        let types = cells()
+            .map(|(_, kind)| vtk_cell_type(kind))
+            .chain(std::iter::repeat_n(3, self.lines.len()));
+        write_raw(out, types, n_cells)
             .and_then(|()| out.write_all(b"\n  </AppendedData>\n</VTKFile>\n"))
             .map_err(io)
     }
@@ -509,6 +651,37 @@ pub enum VtuFormat {
 const HEADER: &str = "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <UnstructuredGrid>\n";
 const FOOTER: &str = "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
 
+/// Ids: `Int32` while they fit, else `Int64`.
+fn ids(values: Vec<i64>) -> DataArray {
+    if values.iter().all(|&v| i32::try_from(v).is_ok()) {
+        DataArray::I32 {
+            components: 1,
+            values: values.into_iter().map(|v| v as i32).collect(),
+        }
+    } else {
+        DataArray::I64 {
+            components: 1,
+            values,
+        }
+    }
+}
+
+/// Point indices (`Int32` while they fit, else `Int64`).
+fn indices(values: Vec<usize>) -> DataArray {
+    let fits = values.iter().all(|&v| v <= i32::MAX as usize);
+    if fits {
+        DataArray::I32 {
+            components: 1,
+            values: values.into_iter().map(|v| v as i32).collect(),
+        }
+    } else {
+        DataArray::I64 {
+            components: 1,
+            values: values.into_iter().map(|v| v as i64).collect(),
+        }
+    }
+}
+
 /// The checked arrays of a file ([`VtuWriter::grid`]).
 struct Grid<'a> {
     n_points: usize,
@@ -516,97 +689,60 @@ struct Grid<'a> {
     point_data: Vec<Array<'a>>,
     cell_data: Vec<Array<'a>>,
     points: Vec<f64>,
-    connectivity: Vec<i64>,
-    offsets: Vec<i64>,
+    connectivity: DataArray,
+    offsets: DataArray,
     types: Vec<u8>,
 }
 
-/// A named data array, the writer's own or the caller's.
+/// A named data array, the writer's own or the caller's, of `tuples` tuples: those it lacks
+/// are padding.
 struct Array<'a> {
     name: String,
     data: std::borrow::Cow<'a, DataArray>,
+    tuples: usize,
 }
 
 impl<'a> Array<'a> {
-    fn owned(name: &str, data: DataArray) -> Array<'a> {
+    fn owned(name: &str, data: DataArray, tuples: usize) -> Array<'a> {
         Array {
             name: name.to_owned(),
             data: std::borrow::Cow::Owned(data),
+            tuples,
         }
     }
 
-    fn borrowed(name: &str, data: &'a DataArray) -> Array<'a> {
+    fn borrowed(name: &str, data: &'a DataArray, tuples: usize) -> Array<'a> {
         Array {
             name: name.to_owned(),
             data: std::borrow::Cow::Borrowed(data),
-        }
-    }
-}
-
-/// The byte count (`UInt64`) and the values of `a` as little-endian bytes, a block at a time.
-fn write_raw(out: &mut impl Write, a: &DataArray) -> std::io::Result<()> {
-    out.write_all(&((a.len() * 8) as u64).to_le_bytes())?;
-    let mut buffer = Vec::with_capacity(1 << 16);
-    macro_rules! blocks {
-        ($values:expr) => {
-            for block in $values.chunks(1 << 13) {
-                buffer.clear();
-                for v in block {
-                    buffer.extend_from_slice(&v.to_le_bytes());
-                }
-                out.write_all(&buffer)?;
-            }
-        };
-    }
-    match a {
-        DataArray::F64 { values, .. } => blocks!(values),
-        DataArray::I64 { values, .. } => blocks!(values),
-    }
-    Ok(())
-}
-
-/// `a` extended to `n` tuples with NaN (`Float64`) or −1 (`Int64`).
-fn padded(a: &DataArray, n: usize) -> DataArray {
-    let c = a.components();
-    match a {
-        DataArray::F64 { components, values } => {
-            let mut values = values.clone();
-            values.resize(n * c, f64::NAN);
-            DataArray::F64 {
-                components: *components,
-                values,
-            }
-        }
-        DataArray::I64 { components, values } => {
-            let mut values = values.clone();
-            values.resize(n * c, -1);
-            DataArray::I64 {
-                components: *components,
-                values,
-            }
+            tuples,
         }
     }
 }
 
 /// The connectivity, one cell per line.
-fn write_cells(out: &mut String, name: &str, conn: &[i64], offsets: &[i64]) {
+fn write_cells(out: &mut String, conn: &DataArray, offsets: &DataArray) {
     let _ = writeln!(
         out,
-        "        <DataArray type=\"Int64\" Name=\"{name}\" NumberOfComponents=\"1\" format=\"ascii\">"
+        "        <DataArray type=\"{}\" Name=\"connectivity\" NumberOfComponents=\"1\" format=\"ascii\">",
+        conn.type_name()
     );
+    let ends: Vec<usize> =
+        with_values!(offsets, values => values.iter().map(|&v| v as usize).collect());
     let mut start = 0usize;
-    for &end in offsets {
-        let end = end as usize;
-        out.push_str("          ");
-        for (k, x) in conn[start..end].iter().enumerate() {
-            if k > 0 {
-                out.push(' ');
+    with_values!(conn, values => {
+        for &end in &ends {
+            out.push_str("          ");
+            for (k, &x) in values[start..end].iter().enumerate() {
+                if k > 0 {
+                    out.push(' ');
+                }
+                x.text(out);
             }
-            let _ = write!(out, "{x}");
+            out.push('\n');
+            start = end;
         }
-        out.push('\n');
-        start = end;
-    }
+    });
     out.push_str("        </DataArray>\n");
 }
 

@@ -170,6 +170,11 @@ fn appended_arrays(bytes: &[u8]) -> Vec<(String, String, Vec<String>)> {
                 .chunks(8)
                 .map(|c| i64::from_le_bytes(c.try_into().unwrap()).to_string())
                 .collect(),
+            "Int32" => body
+                .chunks(4)
+                .map(|c| i32::from_le_bytes(c.try_into().unwrap()).to_string())
+                .collect(),
+            "Int8" => body.iter().map(|&b| (b as i8).to_string()).collect(),
             "UInt8" => body.iter().map(|b| b.to_string()).collect(),
             other => panic!("type {other}"),
         };
@@ -177,7 +182,11 @@ fn appended_arrays(bytes: &[u8]) -> Vec<(String, String, Vec<String>)> {
     }
     // The last array ends where the closing tags begin.
     let (_, ty, values) = out.last().expect("arrays");
-    let size = if ty == "UInt8" { 1 } else { 8 };
+    let size = match ty.as_str() {
+        "Float64" | "Int64" => 8,
+        "Int32" => 4,
+        _ => 1,
+    };
     let last = xml.rfind("offset=\"").expect("an offset") + 8;
     let offset: usize = xml[last..last + xml[last..].find('"').unwrap()]
         .parse()
@@ -209,7 +218,22 @@ fn binary_form_holds_the_ascii_forms_arrays() {
             values: vec![-1, 2, 3],
         },
     );
+    w.point_data(
+        "flag",
+        DataArray::I8 {
+            components: 1,
+            values: vec![-1, 0, 1, 1],
+        },
+    );
+    w.cell_data(
+        "key",
+        DataArray::I32 {
+            components: 1,
+            values: vec![7, -1, i32::MAX],
+        },
+    );
     let xml = w.to_xml("t.vtu").unwrap();
+    assert_eq!(array(&xml, "flag"), ["-1", "0", "1", "1", "-1"]);
     let mut bytes = Vec::new();
     w.write_binary("t.vtu", &mut bytes).unwrap();
     assert!(bytes.starts_with(b"<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\""));
@@ -220,9 +244,11 @@ fn binary_form_holds_the_ascii_forms_arrays() {
         [
             "node_id",
             "gap",
+            "flag",
             "entity_id",
             "entity_kind",
             "c",
+            "key",
             "Points",
             "connectivity",
             "offsets",
