@@ -70,9 +70,9 @@ def model_part_arrays(mp: KM.ModelPart) -> dict:
         for sub in part.SubModelParts:
             path = prefix + sub.Name
             parts[path] = {
-                "nodes": np.array(sorted(n.Id for n in sub.Nodes)),
-                "elements": np.array(sorted(e.Id for e in sub.Elements)),
-                "conditions": np.array(sorted(c.Id for c in sub.Conditions)),
+                "nodes": np.array(sorted(n.Id for n in sub.Nodes), dtype=np.int64),
+                "elements": np.array(sorted(e.Id for e in sub.Elements), dtype=np.int64),
+                "conditions": np.array(sorted(c.Id for c in sub.Conditions), dtype=np.int64),
             }
             add_parts(sub, path + ".")
 

@@ -143,6 +143,14 @@ def test_mesh_from_arrays_searches() -> None:
     np.testing.assert_allclose(pressed.normal_gap[1:], [-0.01, -0.01], rtol=1e-9)
 
 
+def test_empty_id_lists_of_any_dtype_are_accepted() -> None:
+    arrays = tetra_on_block()
+    arrays["parts"]["Master"]["elements"] = np.array([])  # float64, as numpy makes it
+    arrays["parts"]["Slave"]["elements"] = []
+    mesh = csm.Mesh.from_arrays(**arrays)
+    assert mesh.to_arrays()["parts"]["Master"]["elements"].tolist() == []
+
+
 def test_mesh_from_meshio_gives_the_same_search() -> None:
     meshio = pytest.importorskip("meshio")
     a = tetra_on_block()

@@ -447,7 +447,9 @@ fn numeric<'py, T: numpy::Element>(
         .map_err(|e| error(format!("{what}: not an array: {e}")))?;
     let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
     let allowed = if integers { "iu" } else { "iuf" };
-    if !allowed.contains(kind.as_str()) || kind.is_empty() {
+    // An empty array holds no value of a wrong kind (`np.array([])` is float64).
+    let empty = array.getattr("size")?.extract::<usize>()? == 0;
+    if !empty && (!allowed.contains(kind.as_str()) || kind.is_empty()) {
         let dtype = array.getattr("dtype")?.str()?.to_string();
         let expected = if integers { "integers" } else { "numbers" };
         return Err(error(format!(
