@@ -429,8 +429,8 @@ impl<'a> VtuWriter<'a> {
             point_data,
             cell_data,
             points: xyz,
-            connectivity: indices(conn),
-            offsets: indices(offsets),
+            connectivity: self::ids(conn.into_iter().map(|v| v as i64).collect()),
+            offsets: self::ids(offsets.into_iter().map(|v| v as i64).collect()),
             types,
         })
     }
@@ -483,7 +483,7 @@ impl<'a> VtuWriter<'a> {
             .map(|e| (0..e.len()).map(|i| e.nodes(i).len()).sum::<usize>())
             .sum::<usize>()
             + 2 * self.lines.len();
-        // The built-in arrays' types, as `grid` decides them (`ids`, `indices`).
+        // The built-in arrays' types, as `grid` decides them (`ids`).
         let narrow = |v: i64| i32::try_from(v).is_ok();
         let node_ids_narrow = nodes.ids().iter().all(|&i| narrow(i64::from(i)));
         let entity_ids_narrow = entities
@@ -651,7 +651,7 @@ pub enum VtuFormat {
 const HEADER: &str = "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <UnstructuredGrid>\n";
 const FOOTER: &str = "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
 
-/// Ids: `Int32` while they fit, else `Int64`.
+/// Ids or point indices: `Int32` while they fit, else `Int64`.
 fn ids(values: Vec<i64>) -> DataArray {
     if values.iter().all(|&v| i32::try_from(v).is_ok()) {
         DataArray::I32 {
@@ -662,22 +662,6 @@ fn ids(values: Vec<i64>) -> DataArray {
         DataArray::I64 {
             components: 1,
             values,
-        }
-    }
-}
-
-/// Point indices (`Int32` while they fit, else `Int64`).
-fn indices(values: Vec<usize>) -> DataArray {
-    let fits = values.iter().all(|&v| v <= i32::MAX as usize);
-    if fits {
-        DataArray::I32 {
-            components: 1,
-            values: values.into_iter().map(|v| v as i32).collect(),
-        }
-    } else {
-        DataArray::I64 {
-            components: 1,
-            values: values.into_iter().map(|v| v as i64).collect(),
         }
     }
 }
