@@ -42,13 +42,22 @@ struct Mesh {
 
 #[pymethods]
 impl Mesh {
-    /// The mesh as arrays (see the type stubs).
+    /// The mesh as arrays: `node_ids` (int64 (n,)); `points` (float64 (n, 3), the current
+    /// coordinates); `elements` and `conditions` (`{kind: (ids, connectivity)}`, `kind` a
+    /// Kratos geometry name such as `Triangle3D3`, connectivity in node ids); `parts`
+    /// (`{full path: {"nodes": ids, "elements": ids, "conditions": ids}}`); `properties`
+    /// (`{"elements": {kind: ids}, "conditions": {kind: ids}}`); `domain_size` (2 or 3).
+    /// `Mesh.from_arrays(**arrays)` gives the same mesh back, and the same search results.
     fn to_arrays<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let arrays = py.detach(|| self.model.to_arrays());
         arrays_to_dict(py, arrays)
     }
 
-    /// The mesh of the arrays (see the type stubs).
+    /// The mesh of the arrays of `to_arrays()`: `node_ids`, `points` (n, 3), and optionally
+    /// `elements`, `conditions`, `parts`, `properties` (default 0) and `domain_size` (default:
+    /// 2 when every geometry is 2D, else 3, as the readers decide it). Raises `csm.Error` on a
+    /// wrong shape or dtype, an unknown geometry kind, a duplicate id, a NaN or infinite
+    /// coordinate, a connectivity naming a missing node, or a part listing a missing entity.
     // The arguments are the Python keyword arguments, the keys of `to_arrays()`.
     #[allow(clippy::too_many_arguments)]
     #[staticmethod]
@@ -77,7 +86,10 @@ impl Mesh {
         Ok(Mesh { model })
     }
 
-    /// The mesh of a meshio mesh, cell sets as sub model parts (see the type stubs).
+    /// The mesh of a meshio mesh: nodes 1..n, cells 1..m in block order; the cells of the
+    /// mesh's dimension (3 with a volume cell or a non-zero z, else 2; `dim` overrides) are
+    /// elements, the cells one dimension lower conditions; each cell set becomes a sub model
+    /// part with its cells and their nodes.
     #[staticmethod]
     #[pyo3(signature = (mesh, dim=None))]
     fn from_meshio(py: Python<'_>, mesh: &Bound<'_, PyAny>, dim: Option<usize>) -> PyResult<Mesh> {
@@ -121,7 +133,7 @@ struct SearchOutcome {
 
 #[pymethods]
 impl SearchOutcome {
-    /// Per pair key, the pairs as an int64 array (n, 2) of [slave, master] condition ids.
+    /// Per pair key, the pairs as an int64 array (n, 2) of `[slave, master]` condition ids.
     #[getter]
     fn pairs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let out = PyDict::new(py);
@@ -237,7 +249,14 @@ fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<Mesh> {
     Ok(Mesh { model })
 }
 
-/// Runs the search as `csm search` does (see the type stubs).
+/// Runs the search as `csm search MESH --setup SETUP --threads N` does: one search step, or
+/// every step of the setup's `steps`, and returns a `csm.Result`. `mesh`: a path (`.mdpa`,
+/// `.msh`) or a `csm.Mesh` (searched on a copy, left unchanged). `setup`: the Parameters of a
+/// Kratos contact process (or a whole ProjectParameters) as a dict or a JSON file; `None`
+/// searches the parts named `slave` and `master` (any case) with the defaults. `threads`:
+/// worker threads (`None`: every core). `vtk`: also write the mesh, flags and pairs for
+/// ParaView (VTU with raw binary data; `vtk_ascii=True` for text). The GIL is released while
+/// it runs; errors raise `csm.Error` with csm's message.
 #[pyfunction]
 #[pyo3(signature = (mesh, setup=None, threads=None, vtk=None, vtk_ascii=false))]
 fn search(
