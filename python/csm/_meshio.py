@@ -78,9 +78,6 @@ def arrays(mesh: Any, dim: Optional[int] = None) -> Dict[str, Any]:
             for name, parts in by_kind.items()
         }
 
-    element_ids = set()
-    for ids, _ in (p for parts in elements.values() for p in parts):
-        element_ids.update(ids.tolist())
     parts: Dict[str, Dict[str, np.ndarray]] = {}
     for set_name, per_block in getattr(mesh, "cell_sets", {}).items():
         members_e: List[np.ndarray] = []
