@@ -44,6 +44,11 @@ enum Command {
         /// Write demo.vtu's arrays as text (for diffs) instead of raw binary data.
         #[arg(long)]
         vtk_ascii: bool,
+        /// Also write the wall time of every stage as JSON (`csm-profile/1`, as `csm search
+        /// --profile`): building the scene is the phase `read`, the sampled ground truth the
+        /// phase `truth`.
+        #[arg(long, value_name = "PROFILE.json")]
+        profile: Option<PathBuf>,
     },
     /// Print which stages will run and which structures will be built or allocated for a
     /// mesh and a setup, and why each other one is left out. Reads the mesh and the setup as
@@ -137,6 +142,9 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let profile = match &cli.command {
         Command::Search {
+            profile: Some(_), ..
+        }
+        | Command::Demo {
             profile: Some(_), ..
         } => Some(Recorder::new()),
         _ => None,
@@ -235,13 +243,7 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
                 tracing::info!(target: "csm", "wrote {}", path.display());
             }
             end_phase(writing.elapsed().as_secs_f64());
-            if let (Some(path), Some(r)) = (&profile, &recorder) {
-                let json = r.to_json(rayon::current_num_threads(), start.elapsed().as_secs_f64());
-                let text = serde_json::to_string_pretty(&json)
-                    .map_err(|e| format!("cannot format JSON: {e}"))?;
-                std::fs::write(path, text + "\n")
-                    .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
-            }
+            write_profile(profile.as_deref(), recorder.as_ref(), start)?;
             if !quiet {
                 let steps = match result.steps.len() {
                     0 => String::new(),
@@ -313,14 +315,21 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
             quiet,
             report,
             vtk_ascii,
+            profile,
         } => {
             start_threads(threads)?;
             let start = Instant::now();
+            if let Some(r) = &recorder {
+                r.phase("read");
+            }
             let progress = Progress::start("building the scene", csm::cli::progress_wanted(quiet));
             let scene = csm::cli::demo_scene(faces);
             progress.finish();
             let mut scene = scene?;
             let read = start.elapsed().as_secs_f64();
+            if let Some(r) = &recorder {
+                r.end_phase(read);
+            }
             tracing::info!(target: "csm",
                 "built the demo scene: {read:.3} s; {} nodes, {} elements, {} slave and {} \
                  master faces",
@@ -332,15 +341,23 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
             let setup = csm::cli::default_setup(&scene.model)?;
             let options = RunOptions {
                 progress: csm::cli::progress_wanted(quiet),
-                profile: None,
+                profile: recorder.clone(),
             };
             let pristine = scene.model.clone();
             let (result, timings) =
                 csm::cli::run_search_with(&mut scene.model, &setup, read, options)?;
+            let truth_start = Instant::now();
+            if let Some(r) = &recorder {
+                r.phase("truth");
+            }
             let progress = Progress::start("ground truth", csm::cli::progress_wanted(quiet));
             let truth = csm::cli::demo_truth(&pristine, &setup, &result);
             progress.finish();
             let truth = truth?;
+            if let Some(r) = &recorder {
+                r.end_phase(truth_start.elapsed().as_secs_f64());
+                r.phase("write");
+            }
             std::fs::create_dir_all(&output)
                 .map_err(|e| format!("{}: cannot create the folder: {e}", output.display()))?;
             let json_path = output.join("RESULT.json");
@@ -348,9 +365,15 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
             write_result(&json_path, &result, &timings)?;
             let json_s = writing.elapsed().as_secs_f64();
             let vtu_path = output.join("demo.vtu");
-            let writing = Instant::now();
+            let vtu_start = Instant::now();
             csm::cli::write_search_vtu(&scene.model, &result, &vtu_path, vtu_format(vtk_ascii))?;
-            let vtu_s = writing.elapsed().as_secs_f64();
+            let vtu_s = vtu_start.elapsed().as_secs_f64();
+            if let Some(r) = &recorder {
+                r.record("RESULT.json", json_s);
+                r.record("VTU", vtu_s);
+                r.end_phase(writing.elapsed().as_secs_f64());
+            }
+            write_profile(profile.as_deref(), recorder.as_ref(), start)?;
             if !quiet {
                 print!("{}", csm::cli::demo_summary(&scene, &result, &timings));
                 print!("{}", truth.line());
@@ -367,6 +390,23 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
             Ok(())
         }
     }
+}
+
+/// Writes the profile `recorder` kept into `path` (`--profile`), with the whole run's time
+/// counted from `start`.
+fn write_profile(
+    path: Option<&Path>,
+    recorder: Option<&Recorder>,
+    start: Instant,
+) -> Result<(), String> {
+    if let (Some(path), Some(r)) = (path, recorder) {
+        let json = r.to_json(rayon::current_num_threads(), start.elapsed().as_secs_f64());
+        let text =
+            serde_json::to_string_pretty(&json).map_err(|e| format!("cannot format JSON: {e}"))?;
+        std::fs::write(path, text + "\n")
+            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+    }
+    Ok(())
 }
 
 /// Runs the error-vs-run-time report (with progress), writes it into `output` and, unless

@@ -6,9 +6,11 @@
 #
 #   tools/scaling_runs.sh CSM OUT THREADS REPEAT MESH...
 #
-# CSM: the release binary; OUT: the folder to write into; THREADS: thread counts,
+# Paths must not hold spaces. CSM: the release binary; OUT: the folder to write into; THREADS: thread counts,
 # comma-separated (1,2,4,8,16); REPEAT: runs per thread count; MESH: .mdpa, .msh or their
-# .gz / .xz (unpacked once into OUT). For every mesh, round after round, every thread count:
+# .gz / .xz (unpacked once into OUT), or `demo:FACES` for `csm demo --faces FACES` (the
+# embedded scene, built in the phase `read`; its sampled ground truth is the phase `truth`,
+# its demo.vtu is written too). For every mesh, round after round, every thread count:
 # `csm search MESH --threads N --profile` under /usr/bin/time (or the shell's clock where it is
 # missing), into OUT/<mesh name>/t<N>_r<round>.{profile.json,time.txt,result.sha256} (the
 # checksum of RESULT.json without its timings: the renderer checks that they all agree).
@@ -37,7 +39,9 @@ fi
 
 for mesh in "$@"; do
     name=$(basename "$mesh")
+    demo=""
     case "$name" in
+        demo:*) demo=${name#demo:}; name="demo_$demo.scene" ;;
         *.gz) name=${name%.gz}; unpacked="$out/$name"; [ -f "$unpacked" ] || gzip -dc "$mesh" > "$unpacked"; mesh=$unpacked ;;
         *.xz) name=${name%.xz}; unpacked="$out/$name"; [ -f "$unpacked" ] || xz -dc "$mesh" > "$unpacked"; mesh=$unpacked ;;
     esac
@@ -47,24 +51,29 @@ for mesh in "$@"; do
     while [ "$round" -le "$repeat" ]; do
         for t in $threads; do
             base="$dir/t${t}_r${round}"
+            if [ -n "$demo" ]; then
+                run="demo --faces $demo -o $dir/demo"
+                result="$dir/demo/RESULT.json"
+            else
+                run="search $mesh $setup -o $dir/result.json"
+                result="$dir/result.json"
+            fi
             if [ -x /usr/bin/time ]; then
                 # shellcheck disable=SC2086
                 /usr/bin/time -f "%e %M" -o "$base.time.txt" \
-                    "$csm" search "$mesh" $setup --threads "$t" --quiet \
-                    -o "$dir/result.json" --profile "$base.profile.json"
+                    "$csm" $run --threads "$t" --quiet --profile "$base.profile.json"
             else
                 start=$(date +%s.%N)
                 # shellcheck disable=SC2086
-                "$csm" search "$mesh" $setup --threads "$t" --quiet \
-                    -o "$dir/result.json" --profile "$base.profile.json"
+                "$csm" $run --threads "$t" --quiet --profile "$base.profile.json"
                 end=$(date +%s.%N)
                 awk -v a="$start" -v b="$end" 'BEGIN { print b - a, 0 }' > "$base.time.txt"
             fi
-            sed '/"timings_s"/,/}/d' "$dir/result.json" | sha256sum | cut -d' ' -f1 \
+            sed '/"timings_s"/,/}/d' "$result" | sha256sum | cut -d' ' -f1 \
                 > "$base.result.sha256"
             echo "scaling: $name $t threads, round $round: $(cut -d' ' -f1 "$base.time.txt") s" >&2
         done
         round=$((round + 1))
     done
-    rm -f "$dir/result.json"
+    rm -rf "$dir/result.json" "$dir/demo"
 done

@@ -570,6 +570,7 @@ fn the_scaling_script_makes_every_run() {
         .arg(&out)
         .args(["1,2", "2"])
         .arg(&gz)
+        .arg("demo:300")
         .output()
         .expect("sh runs");
     assert!(
@@ -610,4 +611,51 @@ fn the_scaling_script_makes_every_run() {
         !dir.join("result.json").exists(),
         "the last result is removed"
     );
+    // `demo:300`: `csm demo --profile`, its phases adding up, the same result each run.
+    let dir = out.join("demo_300");
+    let mut sums = Vec::new();
+    for t in [1, 2] {
+        for r in [1, 2] {
+            let base = dir.join(format!("t{t}_r{r}"));
+            let read = |ext: &str| {
+                std::fs::read_to_string(base.with_extension(ext))
+                    .unwrap_or_else(|e| panic!("demo t{t}_r{r}.{ext}: {e}"))
+            };
+            let p: Value = serde_json::from_str(&read("profile.json")).unwrap();
+            assert_eq!(p["threads"], t);
+            let phases: Vec<&str> = p["phases"]
+                .as_object()
+                .unwrap()
+                .keys()
+                .map(String::as_str)
+                .collect();
+            assert_eq!(
+                phases,
+                ["read", "initialize", "search", "truth", "write", "total"]
+            );
+            let stages = p["stages"].as_array().unwrap();
+            for phase in ["read", "initialize", "search", "truth", "write"] {
+                let sum: f64 = stages
+                    .iter()
+                    .filter(|s| s["phase"] == phase)
+                    .map(|s| s["seconds"].as_f64().unwrap())
+                    .sum();
+                let total = p["phases"][phase].as_f64().unwrap();
+                assert!(
+                    (sum - total).abs() <= 1e-9 * total.max(1.0),
+                    "demo {phase}: {sum} vs {total}"
+                );
+            }
+            let named: Vec<&str> = stages
+                .iter()
+                .filter(|s| s["phase"] == "write")
+                .map(|s| s["stage"].as_str().unwrap())
+                .collect();
+            assert_eq!(named[..2], ["RESULT.json", "VTU"]);
+            sums.push(read("result.sha256").trim().to_owned());
+        }
+    }
+    assert_eq!(sums[0].len(), 64, "{sums:?}");
+    assert!(sums.iter().all(|s| *s == sums[0]), "{sums:?}");
+    assert!(!dir.join("demo").exists(), "the demo's files are removed");
 }

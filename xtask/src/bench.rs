@@ -402,14 +402,14 @@ pub fn bench(o: &Options) -> Result<()> {
             }
         }
     }
-    // The section of `cargo xtask scaling` stays as it was.
+    // The sections of `cargo xtask scaling` stay as they were, after the report.
     let path = root.join("docs/performance.md");
     let mut text = report(&rows, o)?;
     if let Some(kept) = std::fs::read_to_string(&path)
         .ok()
-        .and_then(|old| crate::scaling::section_of(&old).map(str::to_owned))
+        .and_then(|old| crate::scaling::sections_of(&old).map(str::to_owned))
     {
-        text = crate::scaling::with_section(&text, &kept);
+        text = format!("{}\n\n{kept}\n", text.trim_end());
     }
     std::fs::write(&path, text)?;
     std::fs::write(root.join("docs/performance.svg"), svg(&rows))?;

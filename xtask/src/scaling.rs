@@ -1,6 +1,9 @@
 //! `cargo xtask scaling`: how csm's stages scale with the thread count, written to the
 //! section "Parallel scaling" of `docs/performance.md` (between the markers [`BEGIN`] and
-//! [`END`]; `cargo xtask bench` keeps it), `docs/scaling.svg` and `docs/scaling.json`.
+//! [`END`]; `cargo xtask bench` keeps it), `docs/scaling.svg` and `docs/scaling.json`. With
+//! `--label L` (runs made on another machine, `--runs`), to a section of its own (markers
+//! with the label, [`markers`]) and `docs/scaling-L.{svg,json}`, so that the sweeps of this
+//! machine and of a many-core one stand side by side.
 //!
 //! For every scene (`--scenes stacked_blocks:1e5,sphere_on_plate:2e5`, made by
 //! `tools/bench_scenes.py` like the benchmark's) and every thread count (`--threads 1,2`),
@@ -57,6 +60,15 @@ pub struct Options {
     /// instead of running them.
     #[arg(long)]
     runs: Option<PathBuf>,
+    /// Only measure the machine's ceilings for `--threads` and write them to
+    /// `DIR/ceilings.json`, which `--runs DIR` shows (for the machine that ran the runs).
+    #[arg(long, value_name = "DIR", conflicts_with = "runs")]
+    ceilings_into: Option<PathBuf>,
+    /// Write a section of its own, `## Parallel scaling: LABEL`, and
+    /// `docs/scaling-LABEL.{svg,json}` (letters, digits and `-`), for runs of another
+    /// machine.
+    #[arg(long)]
+    label: Option<String>,
 }
 
 /// The fastest times of one thread count on one scene.
@@ -208,16 +220,63 @@ fn ceilings(threads: &[usize], repeat: usize) -> Vec<(usize, f64, f64)> {
         .collect()
 }
 
+/// The file of `--ceilings-into`, in the runs' folder.
+const CEILINGS: &str = "ceilings.json";
+
+/// The ceilings as JSON: `[{"threads": N, "compute": S, "memory": S}, …]`.
+fn ceilings_json(ceiling: &[(usize, f64, f64)]) -> String {
+    let rows: Vec<Value> = ceiling
+        .iter()
+        .map(|&(n, c, m)| json!({"threads": n, "compute": c, "memory": m}))
+        .collect();
+    serde_json::to_string_pretty(&rows).unwrap_or_default()
+}
+
+/// The ceilings of [`ceilings_json`]'s text.
+fn read_ceilings(text: &str) -> Result<Vec<(usize, f64, f64)>> {
+    let rows: Vec<Value> = serde_json::from_str(text).context("not a JSON list")?;
+    rows.iter()
+        .map(|r| {
+            let n = r["threads"].as_u64().context("a row without `threads`")?;
+            let c = r["compute"].as_f64().context("a row without `compute`")?;
+            let m = r["memory"].as_f64().context("a row without `memory`")?;
+            Ok((n as usize, c, m))
+        })
+        .collect()
+}
+
 /// `cargo xtask scaling`.
 pub fn scaling(o: &Options) -> Result<()> {
+    if o.threads.is_empty() || o.threads.contains(&0) {
+        bail!("--threads: give thread counts of 1 or more");
+    }
+    if let Some(dir) = &o.ceilings_into {
+        eprintln!("scaling: the machine's ceilings (compute-only and memory loops)");
+        let measured = ceilings(&o.threads, 5);
+        std::fs::create_dir_all(dir)?;
+        let path = dir.join(CEILINGS);
+        std::fs::write(&path, ceilings_json(&measured) + "\n")?;
+        eprintln!("wrote {}", path.display());
+        return Ok(());
+    }
+    if let Some(label) = &o.label
+        && (label.is_empty() || !label.chars().all(|c| c.is_ascii_alphanumeric() || c == '-'))
+    {
+        bail!("--label: `{label}` is not letters, digits and `-`");
+    }
     let root = workspace_root();
     let (runs, repeat) = match &o.runs {
         Some(dir) => (dir.clone(), None),
         None => (run_sweep(o)?, Some(o.repeat)),
     };
-    // The machine's own ceilings, measured here (not for runs made elsewhere).
+    // The machine's own ceilings: measured here, or those measured where the runs were made.
     let ceiling = match &o.runs {
-        Some(_) => Vec::new(),
+        Some(dir) => match std::fs::read_to_string(dir.join(CEILINGS)) {
+            Ok(text) => {
+                read_ceilings(&text).with_context(|| format!("{}", dir.join(CEILINGS).display()))?
+            }
+            Err(_) => Vec::new(),
+        },
         None => {
             eprintln!("scaling: the machine's ceilings (compute-only and memory loops)");
             ceilings(&o.threads, 5)
@@ -230,29 +289,31 @@ pub fn scaling(o: &Options) -> Result<()> {
     if scenes.is_empty() {
         bail!("{}: no runs found", runs.display());
     }
+    let label = o.label.as_deref();
+    let stem = label.map_or("scaling".to_owned(), |l| format!("scaling-{l}"));
     let path = root.join("docs/performance.md");
     let old = std::fs::read_to_string(&path).unwrap_or_default();
+    // Runs made elsewhere: as many as the folder holds per thread count.
+    let repeat = repeat.or_else(|| {
+        scenes
+            .iter()
+            .flat_map(|sc| sc.by_threads.iter().map(|(_, f)| f.runs))
+            .min()
+    });
+    let text = section(&scenes, (&machine, label, &stem), repeat, &ceiling)?;
+    std::fs::write(&path, with_section(&old, &text, label))?;
+    std::fs::write(root.join(format!("docs/{stem}.svg")), svg(&scenes))?;
     std::fs::write(
-        &path,
-        with_section(&old, &section(&scenes, &machine, repeat, &ceiling)?),
-    )?;
-    std::fs::write(root.join("docs/scaling.svg"), svg(&scenes))?;
-    std::fs::write(
-        root.join("docs/scaling.json"),
+        root.join(format!("docs/{stem}.json")),
         serde_json::to_string_pretty(&scenes_json(&scenes, &machine))? + "\n",
     )?;
-    eprintln!(
-        "wrote docs/performance.md (section Parallel scaling), docs/scaling.svg, docs/scaling.json"
-    );
+    eprintln!("wrote docs/performance.md (its scaling section), docs/{stem}.svg, docs/{stem}.json");
     Ok(())
 }
 
 /// Builds csm (unless `--csm`), makes the scenes and runs `tools/scaling_runs.sh` into
 /// `target/bench/scaling-runs` (emptied first); returns that folder.
 fn run_sweep(o: &Options) -> Result<PathBuf> {
-    if o.threads.is_empty() || o.threads.contains(&0) {
-        bail!("--threads: give thread counts of 1 or more");
-    }
     let root = workspace_root();
     let csm = match &o.csm {
         Some(path) => path.clone(),
@@ -383,12 +444,25 @@ fn read_runs(dir: &Path) -> Result<Vec<SceneRuns>> {
     Ok(scenes)
 }
 
-/// `old` with its scaling section replaced by `section` (appended where it has none).
-pub(crate) fn with_section(old: &str, section: &str) -> String {
-    match (old.find(BEGIN), old.find(END)) {
-        (Some(a), Some(b)) if b > a => {
-            format!("{}{}{}", &old[..a], section, &old[b + END.len()..])
-        }
+/// The first and last lines of the scaling section labelled `label` ([`BEGIN`] and [`END`]
+/// without a label).
+pub(crate) fn markers(label: Option<&str>) -> (String, String) {
+    match label {
+        None => (BEGIN.to_owned(), END.to_owned()),
+        Some(l) => (
+            format!("<!-- scaling {l}: generated by `cargo xtask scaling --label {l}` -->"),
+            format!("<!-- /scaling {l} -->"),
+        ),
+    }
+}
+
+/// `old` with its scaling section labelled `label` replaced by `section` (appended where it
+/// has none).
+pub(crate) fn with_section(old: &str, section: &str, label: Option<&str>) -> String {
+    let (begin, end) = markers(label);
+    let a = old.find(&begin);
+    match (a, a.and_then(|a| old[a..].find(&end).map(|b| a + b))) {
+        (Some(a), Some(b)) => format!("{}{}{}", &old[..a], section, &old[b + end.len()..]),
         _ => {
             let mut s = old.trim_end().to_owned();
             if !s.is_empty() {
@@ -401,25 +475,28 @@ pub(crate) fn with_section(old: &str, section: &str) -> String {
     }
 }
 
-/// The scaling section of `old` (markers included), if it has one.
-pub(crate) fn section_of(old: &str) -> Option<&str> {
-    let a = old.find(BEGIN)?;
-    let b = old[a..].find(END)? + a;
-    Some(&old[a..b + END.len()])
+/// The scaling sections of `old`, labelled or not (from the first one's first line to the
+/// last one's last line, with what stands between them), if it has any.
+pub(crate) fn sections_of(old: &str) -> Option<&str> {
+    let a = old.find("<!-- scaling")?;
+    let b = old.rfind("<!-- /scaling")?;
+    let end = b + old[b..].find("-->")? + "-->".len();
+    (end > a).then(|| &old[a..end])
 }
 
 /// The Markdown section, between the markers.
 fn section(
     scenes: &[SceneRuns],
-    machine: &str,
+    (machine, label, stem): (&str, Option<&str>, &str),
     repeat: Option<usize>,
     ceiling: &[(usize, f64, f64)],
 ) -> Result<String> {
+    let (begin, end) = markers(label);
     let mut s = String::new();
-    writeln!(s, "{BEGIN}")?;
+    writeln!(s, "{begin}")?;
     writeln!(
         s,
-        "## Parallel scaling\n\n\
+        "## Parallel scaling{}\n\n\
          Generated by `cargo xtask scaling` (`xtask/src/scaling.rs`). Machine: {}. \
          `csm search --threads N --profile` on the default setup (in_radius_with_obb, \
          MappingCheck, kratos mode; `tools/scaling_runs.sh`), thread counts interleaved, {} \
@@ -434,6 +511,7 @@ fn section(
          projection, not a measurement).\n\
          * Stages under 1 % of the one-thread run are summed into their phase's \
          `smaller stages`.\n",
+        label.map_or(String::new(), |l| format!(": {l}")),
         machine,
         repeat.map_or("several".to_owned(), |r| r.to_string())
     )?;
@@ -455,6 +533,16 @@ fn section(
             list(|c| c.2)
         )?;
     }
+    if scenes.iter().any(|sc| sc.name.starts_with("demo_")) {
+        writeln!(
+            s,
+            "* `demo_F`: `csm demo --faces F --threads N --profile`, the embedded scene (a \
+             sphere on a plate, about F/2 slave faces) with its default setup. Its `read` is \
+             building the scene; its `truth` the sampled ground truth (a second search of \
+             2,000 slave faces, in the whole process but no part of the search); its `write` \
+             includes demo.vtu."
+        )?;
+    }
     for sc in scenes {
         let (t1, f1) = &sc.by_threads[0];
         let Some((tn, fnn)) = sc.by_threads.last() else {
@@ -470,8 +558,15 @@ fn section(
             let _ = write!(head, " {t} thr. (s) |");
             rule.push_str("---:|");
         }
-        let _ = write!(head, " S ({tn}/{t1}) | e | 16 by Amdahl |");
-        rule.push_str("---:|---:|---:|");
+        // A sweep up to 16 threads measures what Amdahl's law would project.
+        let project = *tn < 16;
+        if project {
+            let _ = write!(head, " S ({tn}/{t1}) | e | 16 by Amdahl |");
+            rule.push_str("---:|---:|---:|");
+        } else {
+            let _ = write!(head, " S ({tn}/{t1}) | e |");
+            rule.push_str("---:|---:|");
+        }
         writeln!(s, "{head}\n{rule}")?;
         let row = |s: &mut String, phase: &str, stage: &str, times: &[f64]| {
             let mut line = format!("| {phase} | {stage} |");
@@ -482,24 +577,28 @@ fn section(
             let e = serial_fraction(speed, *tn / *t1);
             if *tn > *t1 && speed.is_finite() {
                 // Faster than ideal (noise, caches) is no serial fraction at all.
-                let _ = write!(
-                    line,
-                    " {speed:.2} | {:.2} | {:.1} |",
-                    e.max(0.0),
-                    amdahl(e.max(0.0), 16)
-                );
+                let _ = write!(line, " {speed:.2} | {:.2} |", e.max(0.0));
+                if project {
+                    let _ = write!(line, " {:.1} |", amdahl(e.max(0.0), 16));
+                }
             } else {
-                line.push_str(" | | |");
+                line.push_str(if project { " | | |" } else { " | |" });
             }
             let _ = writeln!(s, "{line}");
         };
         let threshold = 0.01 * f1.wall;
-        for phase in ["read", "initialize", "search", "write"] {
+        for phase in ["read", "initialize", "search", "truth", "write"] {
+            if !f1.phases.contains_key(phase) {
+                continue;
+            }
             let mut small = vec![0.0; sc.by_threads.len()];
             let mut n_small = 0;
             let stages: Vec<_> = f1.stages.iter().filter(|((p, _), _)| p == phase).collect();
-            // A phase that is its own one stage (`read`) has its total row only.
-            let own = matches!(stages.as_slice(), [((_, name), _)] if name == phase);
+            // A phase that is its own one stage (`read`) has its total row only, and so has
+            // the demo's ground truth (a second search, whose stages would repeat the
+            // search's).
+            let own =
+                phase == "truth" || matches!(stages.as_slice(), [((_, name), _)] if name == phase);
             for (key, t) in stages.into_iter().filter(|_| !own) {
                 let times: Vec<f64> = sc.by_threads.iter().map(|(_, f)| f.stage(key)).collect();
                 if *t < threshold {
@@ -535,8 +634,8 @@ fn section(
             fnn.rss_kb / 1024
         )?;
     }
-    writeln!(s, "\n![speed-up against threads](scaling.svg)\n")?;
-    s.push_str(END);
+    writeln!(s, "\n![speed-up against threads]({stem}.svg)\n")?;
+    s.push_str(&end);
     Ok(s)
 }
 
@@ -794,17 +893,44 @@ mod tests {
         let section = format!("{BEGIN}\nnew\n{END}");
         let old = format!("# P\n\ntext\n\n{BEGIN}\nold\n{END}\n\ntail\n");
         assert_eq!(
-            with_section(&old, &section),
+            with_section(&old, &section, None),
             format!("# P\n\ntext\n\n{section}\n\ntail\n")
         );
         assert_eq!(
-            section_of(&old),
+            sections_of(&old),
             Some(&old[old.find(BEGIN).unwrap()..old.find(END).unwrap() + END.len()])
         );
         assert_eq!(
-            with_section("# P\n", &section),
+            with_section("# P\n", &section, None),
             format!("# P\n\n{section}\n")
         );
-        assert_eq!(section_of("# P\n"), None);
+        assert_eq!(sections_of("# P\n"), None);
+    }
+
+    /// A labelled section stands beside the unlabelled one: each is replaced alone, and the
+    /// benchmark keeps both.
+    #[test]
+    fn labelled_sections_are_kept_apart() {
+        let (b16, e16) = markers(Some("16-core"));
+        let plain = format!("{BEGIN}\nplain\n{END}");
+        let labelled = format!("{b16}\nold 16\n{e16}");
+        let old = format!("# P\n\n{plain}\n\n{labelled}\n");
+        let new16 = format!("{b16}\nnew 16\n{e16}");
+        let text = with_section(&old, &new16, Some("16-core"));
+        assert_eq!(text, format!("# P\n\n{plain}\n\n{new16}\n"));
+        let new_plain = format!("{BEGIN}\nnew plain\n{END}");
+        let text = with_section(&text, &new_plain, None);
+        assert_eq!(text, format!("# P\n\n{new_plain}\n\n{new16}\n"));
+        assert_eq!(
+            sections_of(&text),
+            Some(format!("{new_plain}\n\n{new16}").as_str())
+        );
+        // A label appended where the text has no section of it.
+        let (b8, e8) = markers(Some("8-core"));
+        let new8 = format!("{b8}\n8\n{e8}");
+        assert_eq!(
+            with_section(&text, &new8, Some("8-core")),
+            format!("# P\n\n{new_plain}\n\n{new16}\n\n{new8}\n")
+        );
     }
 }
