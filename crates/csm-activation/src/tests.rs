@@ -875,12 +875,13 @@ fn streamed_mapping_maps_as_the_stored_one() {
                 inverted,
                 ..settings()
             };
-            let run = |stored: bool, batch: Option<usize>| {
+            let run = |stored: bool, batch: Option<usize>, gather: bool| {
                 let mut m = base.clone();
                 let tuned = MappingSettings {
                     tuning: MappingTuning {
                         stream_min_entries: if stored { usize::MAX } else { 0 },
                         stream_batch: batch.unwrap_or(settings.tuning.stream_batch),
+                        gather_from_threads: if gather { 1 } else { usize::MAX },
                         ..settings.tuning
                     },
                     ..settings
@@ -890,13 +891,15 @@ fn streamed_mapping_maps_as_the_stored_one() {
                 let gaps = format!("{:?}", known.entries());
                 (report, mapped_bits(&m), gaps)
             };
-            let stored = run(true, None);
+            let stored = run(true, None, false);
             for batch in [1, 3, 10, 1000] {
-                let streamed = run(false, Some(batch));
-                assert!(
-                    streamed == stored,
-                    "layout {l}, inverted {inverted}, batch {batch}"
-                );
+                for gather in [false, true] {
+                    let streamed = three_threads(|| run(false, Some(batch), gather));
+                    assert!(
+                        streamed == stored,
+                        "layout {l}, inverted {inverted}, batch {batch}, gather {gather}"
+                    );
+                }
             }
             iterations.push(stored.0.iterations);
             if l < 2 {
@@ -913,5 +916,64 @@ fn streamed_mapping_maps_as_the_stored_one() {
             iterations.iter().any(|&i| i.min(3) == covered),
             "{iterations:?}"
         );
+    }
+}
+
+/// Runs `f` in a pool of three threads (the gather's tasks split unevenly).
+fn three_threads<T: Send>(f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+/// The gathered sums (module `mapping::gather`) on a grid of more slave conditions than one
+/// segmentation task holds, so that a batch has several mappings and a node's conditions
+/// lie in different ones and in different batches: the serial pass's bits, with 1 and 3
+/// threads, and both as the stored mapping.
+#[test]
+fn gathered_mapping_maps_as_the_serial_pass() {
+    let (base, sub) = grid_scene(24, (0.83, -0.2, 0.01));
+    let unit_normals = base
+        .nodal_data()
+        .vector(VectorVar::Normal, 0)
+        .unwrap()
+        .to_vec();
+    let run = |min_entries: usize, batch: usize, gather: usize| {
+        let mut m = base.clone();
+        let tuned = MappingSettings {
+            tuning: MappingTuning {
+                stream_min_entries: min_entries,
+                stream_batch: batch,
+                gather_from_threads: gather,
+                ..MappingTuning::default()
+            },
+            ..settings()
+        };
+        let r = normal_gap_process_keeping(&mut m, sub, &tuned, None, &unit_normals);
+        let (report, known) = r.unwrap();
+        (report, mapped_bits(&m), format!("{:?}", known.entries()))
+    };
+    let stored = run(usize::MAX, 1, usize::MAX);
+    assert!(
+        stored.0.kept > 500 && stored.0.iterations >= 2,
+        "{:?}",
+        stored.0
+    );
+    for batch in [50, 130, 100_000] {
+        let serial = run(0, batch, usize::MAX);
+        assert!(serial == stored, "serial, batch {batch}");
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| run(0, batch, 1));
+        assert!(one == stored, "gathered on 1 thread, batch {batch}");
+        let three = three_threads(|| run(0, batch, 1));
+        assert!(three == stored, "gathered on 3 threads, batch {batch}");
+        // The default gathers from three threads on: the serial pass on one.
+        let default = three_threads(|| run(0, batch, GATHER_FROM_THREADS));
+        assert!(default == stored, "default on 3 threads, batch {batch}");
     }
 }

@@ -159,6 +159,12 @@ impl ModelPart {
         &mut self.index_maps[c.index()]
     }
 
+    /// Every condition's `INDEX_MAP`, by condition index, mutable: for updates of different
+    /// conditions' maps in parallel.
+    pub fn index_maps_mut(&mut self) -> &mut [IndexMap] {
+        &mut self.index_maps
+    }
+
     /// The non-historical `NORMAL` of every condition (unit normal at the centre), by
     /// condition index; zero until computed (see [`crate::compute_unit_normals`]).
     pub fn condition_normals(&self) -> &[Vector] {

@@ -4,10 +4,13 @@
 //! - [`mean_normals`]: the nodal mean normals the mapping writes first;
 //! - [`segment`]: the exact segmentation of every INDEX_MAP entry, the kept pairs' operators;
 //! - [`stream`]: the first two iterations streamed with the segmentation (large interfaces);
+//! - [`gather`]: the same with the nodal sums gathered by slave node in parallel (many
+//!   threads);
 //! - [`iterate`]: Kratos' explicit iterations (residuals, nodal areas) and robust mode's
 //!   direct solve;
 //! - this module: the process itself, step by step, and `ComputeNormalGap`.
 
+mod gather;
 mod iterate;
 mod mean_normals;
 mod segment;
@@ -80,7 +83,16 @@ pub struct MappingTuning {
     /// Keep each pair's `D` and `M` even where the products `M·v` of the fixed master values
     /// would do. Default false.
     pub full_operators: bool,
+    /// From this many threads on (rayon's current pool), the streamed iterations gather
+    /// their nodal sums by slave node in parallel (module `mapping::gather`) instead of one
+    /// serial pass over the pairs; `usize::MAX` never, 1 always. Default
+    /// [`GATHER_FROM_THREADS`].
+    pub gather_from_threads: usize,
 }
+
+/// The default [`MappingTuning::gather_from_threads`]: where the gather's extra passes cost
+/// less than the serial pass they replace (measured, `docs/performance-analysis.md`).
+pub const GATHER_FROM_THREADS: usize = 3;
 
 impl Default for MappingTuning {
     fn default() -> MappingTuning {
@@ -88,6 +100,7 @@ impl Default for MappingTuning {
             stream_min_entries: STREAM_MIN_ENTRIES,
             stream_batch: SLAVES_PER_BATCH,
             full_operators: false,
+            gather_from_threads: GATHER_FROM_THREADS,
         }
     }
 }
@@ -360,6 +373,7 @@ fn normal_gap_process_inner(
         },
         weighted_gap,
         stream_batch: settings.tuning.stream_batch.max(1),
+        gather_from_threads: settings.tuning.gather_from_threads,
     };
     let mut report = MappingReport::default();
     let mut standard = Vec::new();

@@ -18,7 +18,7 @@ use crate::face::{FaceData, face_data, face_data_with, make_face, nodal_normals}
 use crate::weighted_gap::{FirstPass, KnownGap, PairGap, segmented_pair_gap, slave_area};
 
 /// Slave conditions per parallel task of the segmentation.
-const SLAVES_PER_TASK: usize = 64;
+pub(super) const SLAVES_PER_TASK: usize = 64;
 
 /// The entries of consecutive slave conditions' INDEX_MAPs after the segmentation.
 #[derive(Default)]
@@ -99,7 +99,7 @@ impl OperatorStore {
 
     /// The number of values [`pack`](Self::pack) appends for `ns` slave and `nm` master
     /// nodes.
-    fn packed_len(self, ns: usize, nm: usize) -> usize {
+    pub(super) fn packed_len(self, ns: usize, nm: usize) -> usize {
         match self {
             OperatorStore::Operators => MortarOperators::packed_len(ns, nm),
             OperatorStore::MasterProducts { dim, .. } => {
@@ -166,6 +166,9 @@ pub(super) struct Segmenting<'a> {
     pub(super) weighted_gap: Option<WeightedGapInputs<'a>>,
     /// Slave conditions per streamed batch ([`super::MappingTuning::stream_batch`]).
     pub(super) stream_batch: usize,
+    /// Gather the streamed sums by node from this many threads on
+    /// ([`super::MappingTuning::gather_from_threads`]).
+    pub(super) gather_from_threads: usize,
 }
 
 /// Segments the INDEX_MAP entries of `slaves`, in parallel: their mappings in slave order,

@@ -78,6 +78,15 @@ pub(super) fn stream_first_iterations(
     (aux, ref_area, slaves): (&[Vector], Real, &SlavePositions),
     (report, standard): (&mut MappingReport, &mut Vec<ConditionIdx>),
 ) -> Result<FirstIterations, Error> {
+    if rayon::current_num_threads() >= tasks.gather_from_threads {
+        return super::gather::gather_first_iterations(
+            m,
+            s,
+            tasks,
+            (aux, ref_area, slaves),
+            (report, standard),
+        );
+    }
     let n_slaves = s.slave_nodes.len();
     let dim = match tasks.store {
         OperatorStore::MasterProducts { dim, .. } => dim,

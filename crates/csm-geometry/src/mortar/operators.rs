@@ -110,11 +110,31 @@ impl MortarOperators {
             packed.len(),
             MortarOperators::packed_with_products_len(ns, components)
         );
-        let (d, products) = packed.split_at(ns * ns);
-        let products = &products[k * ns..(k + 1) * ns];
         for (i, o) in out.iter_mut().enumerate().take(ns) {
-            *o = products[i] - row_product(&d[i * ns..(i + 1) * ns], slave_values);
+            *o = MortarOperators::packed_products_residual_row(
+                packed,
+                (k, components),
+                slave_values,
+                i,
+            );
         }
+    }
+
+    /// Row `i` alone of [`packed_products_residual_into`](Self::packed_products_residual_into):
+    /// bit for bit its `out[i]` (for a caller that sums the residual node by node).
+    pub fn packed_products_residual_row(
+        packed: &[Real],
+        (k, components): (usize, usize),
+        slave_values: &[Real],
+        i: usize,
+    ) -> Real {
+        let ns = slave_values.len();
+        debug_assert_eq!(
+            packed.len(),
+            MortarOperators::packed_with_products_len(ns, components)
+        );
+        let (d, products) = packed.split_at(ns * ns);
+        products[k * ns + i] - row_product(&d[i * ns..(i + 1) * ns], slave_values)
     }
 }
 

@@ -275,23 +275,53 @@ pub(super) fn finish_pairs(
     model: &mut ModelPart,
     pair: &mut PairSearch,
     mut created: Vec<(ConditionIdx, ConditionIdx)>,
-    mut condition_id: u32,
+    condition_id: u32,
 ) {
     let ids = model.conditions().ids();
     // Ids are unique: equal keys are equal pairs, so any sort gives one order.
     created.par_sort_unstable_by_key(|(s, m)| (ids[s.index()], ids[m.index()]));
-    pair.paired.reserve(created.len());
-    for (s, m) in created {
-        condition_id += 1;
-        let id = ConditionId(condition_id);
-        let master_id = ConditionId(model.conditions().ids()[m.index()]);
-        model.index_map_mut(s).set_new_entity_id(master_id, id);
-        pair.paired.push(PairedCondition {
-            id,
-            slave: s,
-            master: m,
-            active: true,
-            isolated: false,
-        });
+    // The k-th pair is numbered `condition_id + 1 + k`.
+    let id_of = |k: usize| {
+        let k = u32::try_from(k).expect("paired condition ids fit u32");
+        ConditionId(condition_id + 1 + k)
+    };
+    let masters: Vec<ConditionId> = created
+        .par_iter()
+        .map(|(_, m)| ConditionId(ids[m.index()]))
+        .collect();
+    // Each slave's pairs are consecutive (sorted by slave id): its INDEX_MAP takes them in
+    // master id order, as one pass over the pairs would give them; slaves in parallel.
+    let starts: Vec<usize> = (0..created.len())
+        .into_par_iter()
+        .filter(|&k| k == 0 || created[k].0 != created[k - 1].0)
+        .collect();
+    let mut group_of = vec![u32::MAX; model.conditions().len()];
+    for (g, &k) in starts.iter().enumerate() {
+        group_of[created[k].0.index()] = u32::try_from(g).expect("slave groups fit u32");
     }
+    model
+        .index_maps_mut()
+        .par_iter_mut()
+        .zip(group_of.par_iter())
+        .filter(|(_, g)| **g != u32::MAX)
+        .for_each(|(map, &g)| {
+            let g = g as usize;
+            let end = starts.get(g + 1).copied().unwrap_or(created.len());
+            for (k, &master) in masters.iter().enumerate().take(end).skip(starts[g]) {
+                map.set_new_entity_id(master, id_of(k));
+            }
+        });
+    pair.paired.reserve(created.len());
+    pair.paired.par_extend(
+        created
+            .par_iter()
+            .enumerate()
+            .map(|(k, &(s, m))| PairedCondition {
+                id: id_of(k),
+                slave: s,
+                master: m,
+                active: true,
+                isolated: false,
+            }),
+    );
 }
