@@ -49,7 +49,7 @@ pub fn compute_weighted_gap(
     let m = &*model;
     let known = known.unwrap_or_default();
     // (The pairs come mostly in key order: each task looks them up with its own cursor.)
-    let computed: Vec<Result<Option<PairGap>, Error>> = pairs
+    let computed: Vec<Option<Result<Option<PairGap>, Error>>> = pairs
         .par_iter()
         .map_init(
             || known.cursor(),
@@ -58,24 +58,25 @@ pub fn compute_weighted_gap(
                 unknown.then(|| pair_weighted_gap(m, sc, mc, &seg_settings, dim))
             },
         )
-        .flatten_iter()
         .collect();
-    // Every pair's contribution, in pair order.
-    let contributions = || {
-        let mut computed = computed.iter();
-        let mut cursor = known.cursor();
-        pairs.iter().map(move |&(sc, mc)| {
-            cursor
-                .get(sc, mc)
-                .or_else(|| computed.next())
-                .expect("one computed contribution per unknown pair")
-        })
-    };
+    // Every pair's contribution, in pair order (looked up in parallel: the sums below then
+    // only add).
+    let contributions: Vec<&Result<Option<PairGap>, Error>> = pairs
+        .par_iter()
+        .zip(computed.par_iter())
+        .map_init(
+            || known.cursor(),
+            |cursor, (&(sc, mc), computed)| {
+                computed
+                    .as_ref()
+                    .or_else(|| cursor.get(sc, mc))
+                    .expect("one contribution per pair, known or computed")
+            },
+        )
+        .collect();
     // The first error in pair order, before anything is written (the model's values stay
-    // as they were on an error); looked for only where some computation failed.
-    if (known.has_errors() || computed.iter().any(Result::is_err))
-        && let Some(Err(e)) = contributions().find(|c| c.is_err())
-    {
+    // as they were on an error).
+    if let Some(Err(e)) = contributions.iter().find(|c| c.is_err()) {
         return Err(e.clone());
     }
     // Summed in place: the sub's nodes start at zero, then every contribution in pair order.
@@ -84,7 +85,7 @@ pub fn compute_weighted_gap(
         for n in m.part(sub).nodes() {
             wg[n.index()] = 0.0;
         }
-        for (&(sc, _), contribution) in pairs.iter().zip(contributions()) {
+        for (&(sc, _), contribution) in pairs.iter().zip(&contributions) {
             // (No error is left: the first one was returned above.)
             debug_assert!(contribution.is_ok(), "an error reached the sums");
             let pair = contribution.as_ref().ok().and_then(Option::as_ref);
@@ -161,11 +162,6 @@ impl KnownGaps {
     #[cfg(test)]
     pub(crate) fn entries(&self) -> &[KnownGap] {
         &self.entries
-    }
-
-    /// Whether a computation gave an error.
-    pub(crate) fn has_errors(&self) -> bool {
-        self.entries.iter().any(|(_, gap)| gap.is_err())
     }
 
     /// A cursor for many lookups ([`KnownGapsCursor::get`]).

@@ -27,6 +27,12 @@ impl IndexMap {
         self.entries.binary_search_by_key(&master, |(m, _)| *m)
     }
 
+    /// Room for `additional` more entries without a new allocation (for a caller that knows
+    /// how many it will add).
+    pub fn reserve(&mut self, additional: usize) {
+        self.entries.reserve(additional);
+    }
+
     /// Adds `master` with no paired condition yet; returns false if it was already present
     /// (the entry is left unchanged).
     pub fn add_id(&mut self, master: ConditionId) -> bool {

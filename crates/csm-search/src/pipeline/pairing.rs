@@ -80,6 +80,28 @@ pub(crate) fn direct_check_count(
     counted
 }
 
+/// MappingCheck's CheckCondition for the candidate master `m` of slave `s` (id `slave_id`):
+/// no reverse pair (step 2: when the roles are not predefined or the candidate is itself
+/// slave-side, a master whose INDEX_MAP already holds the slave), and not the same stored
+/// normal. It reads `m`'s INDEX_MAP: the order of the slaves matters only where a candidate
+/// is itself one of the slaves whose maps the pass writes.
+pub(crate) fn mapping_check_keeps(
+    model: &ModelPart,
+    cx: &PairingContext<'_>,
+    (s, slave_id): (ConditionIdx, ConditionId),
+    m: ConditionIdx,
+) -> bool {
+    let p = cx.params;
+    let master_flags = model.conditions().flags()[m.index()];
+    if (!p.predefined_master_slave || master_flags.is(Flag::SLAVE) != cx.inverted)
+        && model.index_map(m).contains(slave_id)
+    {
+        return false;
+    }
+    let normals = model.condition_normals();
+    !same_stored_normal(&normals[s.index()], &normals[m.index()])
+}
+
 /// Applies the candidates of slave `s` in order; returns the (slave, master) pairs created.
 pub(crate) fn apply_candidates(
     model: &mut ModelPart,
@@ -93,21 +115,10 @@ pub(crate) fn apply_candidates(
         CheckGap::MappingCheck => {
             let slave_id = ConditionId(model.conditions().ids()[s.index()]);
             for c in candidates {
-                let m = c.master;
-                let master_flags = model.conditions().flags()[m.index()];
-                // CheckCondition step 2: no reverse pair when the roles are not predefined or
-                // the candidate is itself slave-side.
-                if (!p.predefined_master_slave || master_flags.is(Flag::SLAVE) != cx.inverted)
-                    && model.index_map(m).contains(slave_id)
-                {
-                    continue;
+                if mapping_check_keeps(model, cx, (s, slave_id), c.master) {
+                    let master_id = ConditionId(model.conditions().ids()[c.master.index()]);
+                    model.index_map_mut(s).add_id(master_id);
                 }
-                let normals = model.condition_normals();
-                if same_stored_normal(&normals[s.index()], &normals[m.index()]) {
-                    continue;
-                }
-                let master_id = ConditionId(model.conditions().ids()[m.index()]);
-                model.index_map_mut(s).add_id(master_id);
             }
         }
         CheckGap::NoCheck | CheckGap::DirectCheck => {

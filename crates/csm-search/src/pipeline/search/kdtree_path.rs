@@ -263,10 +263,80 @@ pub(super) fn kdtree_search(
     if let Some(e) = candidates.error {
         return Err(e);
     }
-    for (k, s) in slaves.iter().enumerate() {
-        apply_candidates(model, &pcx, *s, candidates.of(k), created);
+    // On one thread the parallel form's extra passes cost more than they save.
+    let parallel = p.check_gap == CheckGap::MappingCheck
+        && rayon::current_num_threads() > 1
+        && mapping_check_in_parallel(model, &pcx, &slaves, &candidates);
+    if !parallel {
+        for (k, s) in slaves.iter().enumerate() {
+            apply_candidates(model, &pcx, *s, candidates.of(k), created);
+        }
     }
     Ok(())
+}
+
+/// MappingCheck's INDEX_MAP updates ([`apply_candidates`]) of every slave in parallel, where
+/// that gives the maps of the serial pass in slave order: when no candidate is itself one of
+/// the slaves, no test reads a map the pass writes ([`mapping_check_keeps`] reads the
+/// candidate's), so the order of the slaves does not matter. Returns false, having changed
+/// nothing, otherwise (a candidate among the slaves, or a slave listed twice).
+fn mapping_check_in_parallel(
+    model: &mut ModelPart,
+    cx: &PairingContext<'_>,
+    slaves: &[ConditionIdx],
+    candidates: &SlaveCandidates,
+) -> bool {
+    const NONE: u32 = u32::MAX;
+    let mut slot = vec![NONE; model.conditions().len()];
+    for (k, s) in slaves.iter().enumerate() {
+        match u32::try_from(k) {
+            Ok(k) if slot[s.index()] == NONE && k != NONE => slot[s.index()] = k,
+            _ => return false,
+        }
+    }
+    if candidates
+        .list
+        .par_iter()
+        .any(|c| slot[c.master.index()] != NONE)
+    {
+        return false;
+    }
+    let m = &*model;
+    let ids = m.conditions().ids();
+    // The masters each slave keeps, in slave order then candidate order.
+    let kept: Vec<(u32, ConditionId)> = (0..slaves.len())
+        .into_par_iter()
+        .flat_map_iter(|k| {
+            let s = slaves[k];
+            let slave_id = ConditionId(ids[s.index()]);
+            candidates
+                .of(k)
+                .iter()
+                .filter(move |c| mapping_check_keeps(m, cx, (s, slave_id), c.master))
+                .map(move |c| (k as u32, ConditionId(ids[c.master.index()])))
+        })
+        .collect();
+    // Each slave's entries, found by the condition's index.
+    let groups: Vec<&[(u32, ConditionId)]> = kept.par_chunk_by(|a, b| a.0 == b.0).collect();
+    let mut group_of = slot;
+    group_of.fill(NONE);
+    for (g, group) in groups.iter().enumerate() {
+        group_of[slaves[group[0].0 as usize].index()] = g as u32;
+    }
+    model
+        .index_maps_mut()
+        .par_iter_mut()
+        .zip(group_of.par_iter())
+        .filter(|(_, g)| **g != NONE)
+        .for_each(|(map, &g)| {
+            let group = groups[g as usize];
+            // One allocation per map (the entries would grow it a few times each).
+            map.reserve(group.len());
+            for &(_, master) in group {
+                map.add_id(master);
+            }
+        });
+    true
 }
 
 /// Which kd-tree search [`kdtree_search`] runs.
