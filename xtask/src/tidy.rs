@@ -9,7 +9,8 @@ use super::workspace_root;
 
 /// The csm crates each crate may depend on (normal, build and dev dependencies alike).
 /// DESIGN.md §1: geometry ← trees; geometry ← model ← io; {geometry, model} ← activation;
-/// {geometry, trees, model, activation} ← search ← eval; everything ← facade ← python.
+/// {geometry, trees, model, activation} ← search ← eval; everything ← facade ← python;
+/// {geometry, model} ← distributed (its tests: io, search).
 fn allowed() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
     let all = [
         "csm-geometry",
@@ -45,6 +46,11 @@ fn allowed() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
             ]),
         ),
         ("csm-chart", BTreeSet::new()),
+        // The split across ranks: over the mesh arrays; its tests search the parts.
+        (
+            "csm-distributed",
+            BTreeSet::from(["csm-geometry", "csm-model", "csm-io", "csm-search"]),
+        ),
         ("csm", BTreeSet::from(all)),
         // The Python binding: over the facade only.
         ("csm-python", BTreeSet::from(["csm"])),
