@@ -5,9 +5,11 @@
 //! nodes, and every node they use.
 //!
 //! No MPI here. A rank's part is an ordinary [`MeshArrays`]: the split is checked in one
-//! process by searching every part and comparing its owned slaves' pairs and owned nodes'
-//! results with the search of the whole mesh (the tests). The exchange of the parts between
-//! ranks, the ghost values and the global sums are the next steps of the issue.
+//! process by searching every part, with the whole problem's values
+//! (`csm_search::ContactSearch::set_globals`), and comparing its owned slaves' pairs and owned
+//! nodes' results with the search of the whole mesh (the tests). The exchange of the parts
+//! between ranks, the ghost values and the mapper's per-iteration global sum are the next steps
+//! of the issue.
 //!
 //! **Architecture Invariant:** `csm-distributed` depends only on `csm-model` and
 //! `csm-geometry` (its tests also read meshes and search them). A rank's part holds everything

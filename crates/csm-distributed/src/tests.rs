@@ -1,7 +1,7 @@
 use std::path::PathBuf;
 
 use csm_model::ModelPart;
-use csm_search::{ContactSearch, SearchResult, parse_setup};
+use csm_search::{ContactSearch, PairGlobals, SearchResult, parse_setup};
 
 use super::*;
 
@@ -24,9 +24,17 @@ fn scene(name: &str) -> MeshArrays {
         .to_arrays()
 }
 
-/// The CLI's default setup for the parts `Parts_Slave` and `Parts_Master`, with the Simple
-/// or the Advanced activation and the search type `type_search`.
-fn search(mesh: &MeshArrays, simple: bool, type_search: &str) -> SearchResult {
+/// The whole problem's values of each pair (`ContactSearch::globals`).
+type Globals = BTreeMap<u32, PairGlobals>;
+
+/// A search with the CLI's default setup for the parts `Parts_Slave` and `Parts_Master`, the
+/// Simple or the Advanced activation and the search type `type_search`; with `globals`, those
+/// of the whole problem. Returns the result and the values the search used.
+fn search(
+    mesh: &MeshArrays,
+    (simple, type_search): (bool, &str),
+    globals: Option<&Globals>,
+) -> (SearchResult, Globals) {
     let text = format!(
         r#"{{"contact_model_part": {{"0": ["Parts_Slave", "Parts_Master"]}},
             "assume_master_slave": {{"0": ["Parts_Slave"]}},
@@ -35,7 +43,11 @@ fn search(mesh: &MeshArrays, simple: bool, type_search: &str) -> SearchResult {
     let setup = parse_setup(&text, "<test setup>").expect("the setup parses");
     let mut model = ModelPart::from_arrays("Structure", mesh).expect("the arrays make a model");
     let mut search = ContactSearch::initialize(&mut model, &setup).expect("initialize");
-    search.step(&mut model).expect("search")
+    if let Some(globals) = globals {
+        search.set_globals(globals);
+    }
+    let result = search.step(&mut model).expect("search");
+    (result, search.globals())
 }
 
 #[test]
@@ -75,18 +87,18 @@ fn bad_splits_are_refused() {
     assert_eq!(err.to_string(), "split: no part `Nope` in the mesh");
 }
 
-/// Every rank's part, searched alone, gives its owned slave conditions the pairs of the
-/// search of the whole mesh, and every slave condition and slave node is owned once: for 1
-/// to 4 ranks on every scene, Simple and Advanced activation. On one rank the owned nodes'
-/// NORMAL_GAP and ACTIVE are the whole search's, bit for bit (the halo holds what they read).
-/// On more, the ranks' mapper iterations stop by their own convergence test (`Σ VAUX²` over
-/// their own slave nodes) and the Advanced threshold is their own mean NODAL_H: the global
-/// sums `docs/distributed.md` says the ranks must share. Where that moves a gap it is
-/// reported, not asserted.
+/// Every rank's part, searched alone with the whole problem's values (`set_globals`: the
+/// largest and the mean NODAL_H), gives its owned slave conditions the pairs of the search of
+/// the whole mesh, and every slave condition and slave node is owned once: for 1 to 4 ranks on
+/// every scene, Simple and Advanced activation, with and without the OBB test. On one rank the
+/// owned nodes' NORMAL_GAP and ACTIVE are the whole search's, bit for bit (the halo holds what
+/// they read). On more, the ranks' mapper iterations stop by their own convergence test
+/// (`Σ VAUX²` and the count over their own slave nodes), the global sum `docs/distributed.md`
+/// says the ranks must share: where that moves a gap it is reported, not asserted.
 #[test]
 fn every_rank_finds_the_pairs_of_the_whole_search() {
     let mut report = Vec::new();
-    let mut pair_mismatch: Vec<(&str, bool, &str, usize, u32)> = Vec::new();
+    let mut own_globals_mismatch: Vec<(&str, bool, &str, usize, u32)> = Vec::new();
     for name in SCENES {
         let mesh = scene(name);
         for (simple, type_search) in [
@@ -94,7 +106,7 @@ fn every_rank_finds_the_pairs_of_the_whole_search() {
             (false, "in_radius_with_obb"),
             (false, "in_radius"),
         ] {
-            let whole = search(&mesh, simple, type_search);
+            let (whole, globals) = search(&mesh, (simple, type_search), None);
             let pairs = &whole.pairs["0"];
             for ranks in 1..=4 {
                 let parts = split(
@@ -108,10 +120,16 @@ fn every_rank_finds_the_pairs_of_the_whole_search() {
                 let mut owned_nodes: Vec<u32> = Vec::new();
                 let (mut differing_nodes, mut active_flips, mut largest) = (0, 0, 0.0f64);
                 for part in &parts {
-                    let local = search(&part.mesh, simple, type_search);
+                    let (own, _) = search(&part.mesh, (simple, type_search), None);
+                    let (local, _) = search(&part.mesh, (simple, type_search), Some(&globals));
                     for id in &part.owned_conditions {
-                        if local.pairs["0"].get(id) != pairs.get(id) {
-                            pair_mismatch.push((name, simple, type_search, ranks, *id));
+                        assert_eq!(
+                            local.pairs["0"].get(id),
+                            pairs.get(id),
+                            "{name}, simple {simple}, {type_search}, {ranks} ranks: slave {id}"
+                        );
+                        if own.pairs["0"].get(id) != pairs.get(id) {
+                            own_globals_mismatch.push((name, simple, type_search, ranks, *id));
                         }
                     }
                     for id in &part.owned_nodes {
@@ -155,12 +173,12 @@ fn every_rank_finds_the_pairs_of_the_whole_search() {
         }
     }
     eprintln!("owned nodes whose NORMAL_GAP or ACTIVE differ: {report:#?}");
-    // The one slave whose pairs differ, and why: the OBB test enlarges the master boxes by
-    // `bounding_box_factor` × the largest NODAL_H of the contact part's nodes, a global maximum
-    // (each rank takes its own part's). On the sphere split for 4 ranks, slave 670's rank has a
-    // smaller one, and its boxes miss the masters 991 and 1003 (the whole search keeps 1003 and
-    // prunes 991). Without the OBB test (`in_radius`) no pair differs. Listed so that any new
-    // difference fails, and so does this one's disappearing.
+    // With each part's own values instead of the whole problem's, one slave's pairs differ:
+    // the OBB test enlarges the master boxes by `bounding_box_factor` × the largest NODAL_H of
+    // the contact nodes; on the sphere split for 4 ranks, slave 670's part has a smaller one,
+    // and its boxes miss the masters 991 and 1003 (the whole search keeps 1003 and prunes 991).
+    // Without the OBB test (`in_radius`) none differs. So the largest NODAL_H is one of the
+    // values the ranks must share, and sharing it (above) is enough for the pairs.
     let obb = |simple| {
         (
             "sphere_on_plate_tri.mdpa",
@@ -170,9 +188,9 @@ fn every_rank_finds_the_pairs_of_the_whole_search() {
             670,
         )
     };
-    let known = [obb(true), obb(false)];
     assert_eq!(
-        pair_mismatch, known,
-        "slaves whose pairs differ from the whole search's"
+        own_globals_mismatch,
+        [obb(true), obb(false)],
+        "slaves whose pairs differ with the parts' own values"
     );
 }

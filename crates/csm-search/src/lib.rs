@@ -51,8 +51,8 @@ mod plan;
 pub mod scenes;
 mod trace;
 pub use pipeline::{
-    ContactSearch, MappingTuning, NodeResult, PairedCondition, QueryOrder, SearchResult,
-    SearchTuning, StepResult, TruthScene, passes_orientation,
+    ContactSearch, MappingTuning, NodeResult, PairGlobals, PairedCondition, QueryOrder,
+    SearchResult, SearchTuning, StepResult, TruthScene, passes_orientation,
 };
 pub use plan::{
     Activation, Decision, InterfaceAction, KdQuery, NodalHSource, NodalVariable, NormalCheck,

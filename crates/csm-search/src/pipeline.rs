@@ -12,6 +12,7 @@
 
 mod candidates;
 mod filters;
+mod globals;
 mod motion;
 mod octree;
 mod pairing;
@@ -24,6 +25,7 @@ mod step_jump;
 mod tuning;
 
 pub use filters::passes_orientation;
+pub use globals::PairGlobals;
 pub use result::{NodeResult, SearchResult, StepResult};
 pub use search::TruthScene;
 pub(crate) use search::locate;

@@ -76,6 +76,8 @@ pub(crate) struct OctreeContext<'a> {
     pub domain_size: u32,
     /// Robust mode: the nodes ACTIVE before the pairing (`pairing::direct_check_count`).
     pub active_before: Option<Vec<bool>>,
+    /// The whole problem's largest NODAL_H, where given (`PairGlobals`).
+    pub largest_nodal_h: Option<Real>,
 }
 
 /// What one octree search saw, besides the pairs (for tests and warnings).
@@ -87,6 +89,8 @@ pub(crate) struct OctreeReport {
     pub root: Option<(Point, Point)>,
     /// `bounding_box_factor · hmax`.
     pub bbf: Real,
+    /// The largest NODAL_H of the contact nodes (before the 1-below-ε rule), or the given one.
+    pub hmax: Real,
     /// Number of leaves of the octree.
     pub n_leaves: usize,
 }
@@ -384,11 +388,14 @@ pub(crate) fn search_octree_report(
         .nodal_data()
         .scalar(ScalarVar::NodalH, 0)
         .unwrap_or(&[]);
-    let hmax = slave_nodes
-        .iter()
-        .chain(&master_nodes)
-        .map(|n| h.get(n.index()).copied().unwrap_or(0.0))
-        .fold(0.0, Real::max);
+    let hmax = cx.largest_nodal_h.unwrap_or_else(|| {
+        slave_nodes
+            .iter()
+            .chain(&master_nodes)
+            .map(|n| h.get(n.index()).copied().unwrap_or(0.0))
+            .fold(0.0, Real::max)
+    });
+    report.hmax = hmax;
     let hmax = if hmax < EPS { 1.0 } else { hmax };
     let bbf = p.octree.bounding_box_factor * hmax;
     report.bbf = bbf;

@@ -328,6 +328,7 @@ fn search_directly(
         domain_size,
         active_before: (s.compatibility == crate::setup::Compatibility::Robust)
             .then(|| crate::pipeline::pairing::active_snapshot(model)),
+        largest_nodal_h: None,
     };
     let mut created = Vec::new();
     let report = search_octree_report(model, &cx, &mut created).unwrap();

@@ -56,7 +56,11 @@ pub(super) fn check_pairing(
         Compatibility::Robust => act::MortarMode::Robust,
     };
     if !p.simple_search {
-        let h = act::mean_h(model, sub, inverted);
+        let h = pair
+            .globals
+            .mean_nodal_h
+            .unwrap_or_else(|| act::mean_h(model, sub, inverted));
+        pair.used.mean_nodal_h = Some(h);
         model.process_info_mut().set_number("DISTANCE_THRESHOLD", h);
     }
     let distance_threshold = model

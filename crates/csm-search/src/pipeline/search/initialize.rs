@@ -235,6 +235,8 @@ impl ContactSearch {
                 pruned: Vec::new(),
                 tree: None,
                 points: Vec::new(),
+                globals: PairGlobals::default(),
+                used: PairGlobals::default(),
             });
         }
         // TO_ERASE is reset on every Contact condition after the clones (§4.1); csm never

@@ -88,12 +88,15 @@ pub(super) fn kdtree_search(
         .nodal_data()
         .scalar(ScalarVar::NodalH, 0)
         .unwrap_or(&[]);
-    let hmax = model
-        .part(sub)
-        .nodes()
-        .iter()
-        .map(|n| h_col[n.index()])
-        .fold(0.0, Real::max);
+    let hmax = pair.globals.largest_nodal_h.unwrap_or_else(|| {
+        model
+            .part(sub)
+            .nodes()
+            .iter()
+            .map(|n| h_col[n.index()])
+            .fold(0.0, Real::max)
+    });
+    pair.used.largest_nodal_h = Some(hmax);
     let hmax = if hmax < EPS { 1.0 } else { hmax };
     let bbf = p.octree.bounding_box_factor * hmax;
     let with_kdop = plan.kdop.is_used();

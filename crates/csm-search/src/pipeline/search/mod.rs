@@ -16,6 +16,7 @@ use csm_trees::KdTree;
 use rayon::prelude::*;
 
 use super::candidates::{Bv, Candidate, PerMaster, QueryContext, QueryScratch, slave_candidates};
+use super::globals::PairGlobals;
 use super::motion::{apply_nodal_values, check_step_parts, step_positions};
 use super::octree::{OctreeContext, search_octree_report};
 pub use super::pairing::PairedCondition;
@@ -80,6 +81,10 @@ struct PairSearch {
     /// (indices) the kd-tree is built over. Filled with the MASTER conditions when empty, then replaced
     /// by the self-contact pre-search of every step (reference §12.1).
     points: Vec<u32>,
+    /// The whole problem's values given by [`ContactSearch::set_globals`] (none: this model's).
+    globals: PairGlobals,
+    /// The values the last step used ([`ContactSearch::globals`]).
+    used: PairGlobals,
 }
 
 /// A kd-tree kept from one step to the next, with the condition ids it was built over (in
@@ -132,6 +137,22 @@ fn conditions_by_id(model: &ModelPart, part: PartIdx) -> Vec<ConditionIdx> {
 }
 
 impl ContactSearch {
+    /// Makes later steps use the whole problem's values `globals` (by pair key; a pair not
+    /// listed, or a value `None`, takes its own model's): for a search of one rank's part of a
+    /// larger mesh ([`PairGlobals`], `csm-distributed`).
+    pub fn set_globals(&mut self, globals: &BTreeMap<u32, PairGlobals>) {
+        for pair in &mut self.pairs {
+            pair.globals = globals.get(&pair.key).copied().unwrap_or_default();
+        }
+    }
+
+    /// The values of the whole problem the last step took from the model, by pair key (or
+    /// those [`set_globals`](Self::set_globals) gave): what a search of one part of a larger
+    /// mesh must be given ([`PairGlobals`]).
+    pub fn globals(&self) -> BTreeMap<u32, PairGlobals> {
+        self.pairs.iter().map(|p| (p.key, p.used)).collect()
+    }
+
     /// Sets how the search organises its work (the order of the slave queries, the mapping's
     /// streaming): never a result. Production leaves [`SearchTuning::default`].
     pub fn set_tuning(&mut self, tuning: SearchTuning) {

@@ -167,6 +167,7 @@ pub(super) fn update_mortar_conditions(
             compatibility,
             domain_size,
             active_before: (compatibility == Compatibility::Robust).then(|| active_snapshot(model)),
+            largest_nodal_h: pair.globals.largest_nodal_h,
         };
         let report = if inverted {
             // Robust mode: the octree searches from the other side by swapping the roles of
@@ -190,6 +191,7 @@ pub(super) fn update_mortar_conditions(
         } else {
             search_octree_report(model, &ocx, &mut created)?
         };
+        pair.used.largest_nodal_h = Some(report.hmax);
         run_warnings.extend(report.warnings);
     } else {
         let points = (!p.predefined_master_slave).then(|| pair.points.clone());
