@@ -93,8 +93,9 @@ fn bad_splits_are_refused() {
 /// every scene, Simple and Advanced activation, with and without the OBB test. On one rank the
 /// owned nodes' NORMAL_GAP and ACTIVE are the whole search's, bit for bit (the halo holds what
 /// they read). On more, the ranks' mapper iterations stop by their own convergence test
-/// (`Σ VAUX²` and the count over their own slave nodes), the global sum `docs/distributed.md`
-/// says the ranks must share: where that moves a gap it is reported, not asserted.
+/// (`Σ VAUX²` and the count over their own slave nodes) and read their ghost slave nodes'
+/// values, which only the owners compute whole: what the ranks must exchange in every
+/// iteration (`docs/distributed.md`). Where that moves a gap it is reported, not asserted.
 #[test]
 fn every_rank_finds_the_pairs_of_the_whole_search() {
     let mut report = Vec::new();
