@@ -585,16 +585,62 @@ fn the_scaling_script_makes_every_run() {
             .is_empty()
     );
     let dir = out.join("boxes");
+    check_scaling_runs(&dir, |_| {});
+    assert!(
+        !dir.join("result.json").exists(),
+        "the last result is removed"
+    );
+    // `demo:300`: `csm demo --profile`, its phases adding up, the same result each run.
+    let dir = out.join("demo_300");
+    check_scaling_runs(&dir, |p| {
+        let phases: Vec<&str> = p["phases"]
+            .as_object()
+            .unwrap()
+            .keys()
+            .map(String::as_str)
+            .collect();
+        assert_eq!(
+            phases,
+            ["read", "initialize", "search", "truth", "write", "total"]
+        );
+        let stages = p["stages"].as_array().unwrap();
+        for phase in ["read", "initialize", "search", "truth", "write"] {
+            let sum: f64 = stages
+                .iter()
+                .filter(|s| s["phase"] == phase)
+                .map(|s| s["seconds"].as_f64().unwrap())
+                .sum();
+            let total = p["phases"][phase].as_f64().unwrap();
+            assert!(
+                (sum - total).abs() <= 1e-9 * total.max(1.0),
+                "demo {phase}: {sum} vs {total}"
+            );
+        }
+        let named: Vec<&str> = stages
+            .iter()
+            .filter(|s| s["phase"] == "write")
+            .map(|s| s["stage"].as_str().unwrap())
+            .collect();
+        assert_eq!(named[..2], ["RESULT.json", "VTU"]);
+    });
+    assert!(!dir.join("demo").exists(), "the demo's files are removed");
+}
+
+/// The runs of one scene of `tools/scaling_runs.sh` with threads 1, 2 and rounds 1, 2: each
+/// has its profile (of its thread count, checked further by `check_profile`), its time, and
+/// the checksum of its RESULT.json, the same for all.
+fn check_scaling_runs(dir: &std::path::Path, check_profile: impl Fn(&Value)) {
     let mut sums = Vec::new();
     for t in [1, 2] {
         for r in [1, 2] {
             let base = dir.join(format!("t{t}_r{r}"));
             let read = |ext: &str| {
                 std::fs::read_to_string(base.with_extension(ext))
-                    .unwrap_or_else(|e| panic!("t{t}_r{r}.{ext}: {e}"))
+                    .unwrap_or_else(|e| panic!("{}.{ext}: {e}", base.display()))
             };
             let profile: Value = serde_json::from_str(&read("profile.json")).unwrap();
             assert_eq!(profile["threads"], t);
+            check_profile(&profile);
             let wall: f64 = read("time.txt")
                 .split_whitespace()
                 .next()
@@ -607,55 +653,4 @@ fn the_scaling_script_makes_every_run() {
     }
     assert_eq!(sums[0].len(), 64, "{sums:?}");
     assert!(sums.iter().all(|s| *s == sums[0]), "{sums:?}");
-    assert!(
-        !dir.join("result.json").exists(),
-        "the last result is removed"
-    );
-    // `demo:300`: `csm demo --profile`, its phases adding up, the same result each run.
-    let dir = out.join("demo_300");
-    let mut sums = Vec::new();
-    for t in [1, 2] {
-        for r in [1, 2] {
-            let base = dir.join(format!("t{t}_r{r}"));
-            let read = |ext: &str| {
-                std::fs::read_to_string(base.with_extension(ext))
-                    .unwrap_or_else(|e| panic!("demo t{t}_r{r}.{ext}: {e}"))
-            };
-            let p: Value = serde_json::from_str(&read("profile.json")).unwrap();
-            assert_eq!(p["threads"], t);
-            let phases: Vec<&str> = p["phases"]
-                .as_object()
-                .unwrap()
-                .keys()
-                .map(String::as_str)
-                .collect();
-            assert_eq!(
-                phases,
-                ["read", "initialize", "search", "truth", "write", "total"]
-            );
-            let stages = p["stages"].as_array().unwrap();
-            for phase in ["read", "initialize", "search", "truth", "write"] {
-                let sum: f64 = stages
-                    .iter()
-                    .filter(|s| s["phase"] == phase)
-                    .map(|s| s["seconds"].as_f64().unwrap())
-                    .sum();
-                let total = p["phases"][phase].as_f64().unwrap();
-                assert!(
-                    (sum - total).abs() <= 1e-9 * total.max(1.0),
-                    "demo {phase}: {sum} vs {total}"
-                );
-            }
-            let named: Vec<&str> = stages
-                .iter()
-                .filter(|s| s["phase"] == "write")
-                .map(|s| s["stage"].as_str().unwrap())
-                .collect();
-            assert_eq!(named[..2], ["RESULT.json", "VTU"]);
-            sums.push(read("result.sha256").trim().to_owned());
-        }
-    }
-    assert_eq!(sums[0].len(), 64, "{sums:?}");
-    assert!(sums.iter().all(|s| *s == sums[0]), "{sums:?}");
-    assert!(!dir.join("demo").exists(), "the demo's files are removed");
 }

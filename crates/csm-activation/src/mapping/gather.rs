@@ -24,7 +24,7 @@ use rayon::prelude::*;
 
 use super::segment::{OperatorStore, SLAVES_PER_TASK, Segmenting, SlaveMapping, segment_slaves};
 use super::sides::{Sides, SlavePositions};
-use super::stream::FirstIterations;
+use super::stream::{FirstIterations, after_first, streamed_dim};
 use super::{AREA_TOLERANCE, MappingReport};
 use crate::error::Error;
 
@@ -141,12 +141,7 @@ pub(super) fn gather_first_iterations(
     (report, standard): (&mut MappingReport, &mut Vec<ConditionIdx>),
 ) -> Result<FirstIterations, Error> {
     let n_slaves = s.slave_nodes.len();
-    let dim = match tasks.store {
-        OperatorStore::MasterProducts { dim, .. } => dim,
-        OperatorStore::Operators | OperatorStore::Relative { .. } => {
-            unreachable!("streams only the master values' products")
-        }
-    };
+    let dim = streamed_dim(tasks.store);
     let batch = tasks.stream_batch;
     let n_batches = s.slave_conditions.len().div_ceil(batch);
     let position = |n: NodeIdx| slaves.get(n).expect("streams: a slave node");
@@ -199,24 +194,13 @@ pub(super) fn gather_first_iterations(
             seconds[b].push(j);
         }
     }
-    let mut first = FirstIterations {
-        vaux: [
-            vec![Vector::zeros(); n_slaves],
-            vec![Vector::zeros(); n_slaves],
-        ],
-        area: vec![0.0; n_slaves],
-        gaps: Vec::new(),
-    };
+    let mut first = FirstIterations::zeros(n_slaves);
     let tolerance = AREA_TOLERANCE * ref_area;
     let mut batches: Vec<Option<Batch>> = (0..n_batches).map(|_| None).collect();
     for (b, conditions) in s.slave_conditions.chunks(batch).enumerate() {
         let mut mapped = segment_slaves(m, conditions, tasks)?;
         for mapped in &mut mapped {
-            report.kept += mapped.kept.len();
-            standard.append(&mut mapped.standard);
-            report.lost_projections += mapped.lost_projections;
-            report.removed.append(&mut mapped.removed);
-            first.gaps.append(&mut mapped.gaps);
+            first.take_reports(mapped, (&mut *report, &mut *standard));
         }
         let mappings = mapped.into_iter().map(SlaveMapping::kept_part).collect();
         batches[b] = Some(Batch::new(
@@ -246,18 +230,12 @@ pub(super) fn gather_first_iterations(
         }
         // The second of the nodes whose slave conditions' nodes all have their first.
         let (vaux0, area) = (&first.vaux[0], &first.area);
-        let after_first = |n: NodeIdx, k: usize| {
-            let (i, j) = (n.index(), position(n));
-            if area[j].abs() > tolerance {
-                aux[i][k] + vaux0[j][k] / area[j]
-            } else {
-                aux[i][k]
-            }
-        };
+        let first_value =
+            |n: NodeIdx, k: usize| after_first(aux, (vaux0, area, tolerance), (n, position(n)), k);
         let sums: Vec<(Vector, Real)> = seconds[b]
             .par_iter()
             .with_min_len(NODES_PER_TASK)
-            .map(|&j| gather.node(j, after_first, false))
+            .map(|&j| gather.node(j, first_value, false))
             .collect();
         for (&j, (v, _)) in seconds[b].iter().zip(sums) {
             first.vaux[1][j] = v;

@@ -25,6 +25,62 @@ pub(super) struct FirstIterations {
     pub(super) gaps: Vec<KnownGap>,
 }
 
+impl FirstIterations {
+    /// Zero sums for `n_slaves` slave nodes.
+    pub(super) fn zeros(n_slaves: usize) -> FirstIterations {
+        FirstIterations {
+            vaux: [
+                vec![Vector::zeros(); n_slaves],
+                vec![Vector::zeros(); n_slaves],
+            ],
+            area: vec![0.0; n_slaves],
+            gaps: Vec::new(),
+        }
+    }
+
+    /// Moves a batch mapping's reports into the run's, in slave order: its kept count, the
+    /// slave conditions of its standard-basis pairs, its lost projections, its removed entries
+    /// and its weighted gaps.
+    pub(super) fn take_reports(
+        &mut self,
+        mapped: &mut SlaveMapping,
+        (report, standard): (&mut MappingReport, &mut Vec<ConditionIdx>),
+    ) {
+        report.kept += mapped.kept.len();
+        standard.append(&mut mapped.standard);
+        report.lost_projections += mapped.lost_projections;
+        report.removed.append(&mut mapped.removed);
+        self.gaps.append(&mut mapped.gaps);
+    }
+}
+
+/// Component `k` of node `n` (slave node position `j`) after the first iteration, as the
+/// iterations compute it: `aux` the values before, `vaux0` and `area` the first iteration's
+/// sums by slave node, `tolerance` the area up to which a node keeps its value.
+pub(super) fn after_first(
+    aux: &[Vector],
+    (vaux0, area, tolerance): (&[Vector], &[Real], Real),
+    (n, j): (NodeIdx, usize),
+    k: usize,
+) -> Real {
+    let i = n.index();
+    if area[j].abs() > tolerance {
+        aux[i][k] + vaux0[j][k] / area[j]
+    } else {
+        aux[i][k]
+    }
+}
+
+/// The mapped components of a store that streams (the master values' products).
+pub(super) fn streamed_dim(store: OperatorStore) -> usize {
+    match store {
+        OperatorStore::MasterProducts { dim, .. } => dim,
+        OperatorStore::Operators | OperatorStore::Relative { .. } => {
+            unreachable!("streams only the master values' products")
+        }
+    }
+}
+
 /// INDEX_MAP entries from which the mapping streams its first iterations (below, keeping
 /// every pair's operators costs little memory and saves the batches' passes).
 pub(super) const STREAM_MIN_ENTRIES: usize = 1 << 16;
@@ -88,12 +144,7 @@ pub(super) fn stream_first_iterations(
         );
     }
     let n_slaves = s.slave_nodes.len();
-    let dim = match tasks.store {
-        OperatorStore::MasterProducts { dim, .. } => dim,
-        OperatorStore::Operators | OperatorStore::Relative { .. } => {
-            unreachable!("streams only the master values' products")
-        }
-    };
+    let dim = streamed_dim(tasks.store);
     let batch = tasks.stream_batch;
     // By slave node: the number of slave conditions done when its last one is (every node
     // of a slave condition is a slave node).
@@ -104,14 +155,7 @@ pub(super) fn stream_first_iterations(
             done_with[position(n)] = p + 1;
         }
     }
-    let mut first = FirstIterations {
-        vaux: [
-            vec![Vector::zeros(); n_slaves],
-            vec![Vector::zeros(); n_slaves],
-        ],
-        area: vec![0.0; n_slaves],
-        gaps: Vec::new(),
-    };
+    let mut first = FirstIterations::zeros(n_slaves);
     let residual = Residual {
         store: tasks.store,
         dim,
@@ -125,11 +169,7 @@ pub(super) fn stream_first_iterations(
     for (b, conditions) in s.slave_conditions.chunks(batch).enumerate() {
         let done = b * batch + conditions.len();
         for mut mapped in segment_slaves(m, conditions, tasks)? {
-            report.kept += mapped.kept.len();
-            standard.append(&mut mapped.standard);
-            report.lost_projections += mapped.lost_projections;
-            report.removed.append(&mut mapped.removed);
-            first.gaps.append(&mut mapped.gaps);
+            first.take_reports(&mut mapped, (&mut *report, &mut *standard));
             if mapped.kept.is_empty() {
                 continue;
             }
@@ -142,15 +182,8 @@ pub(super) fn stream_first_iterations(
         // The second iteration of the pairs whose slave nodes are done, in order.
         let [vaux0, vaux1] = &mut first.vaux;
         let (vaux0, area) = (&*vaux0, &first.area);
-        // A slave node's value after the first iteration, as the iterations compute it.
-        let after_first = |n: NodeIdx, k: usize| {
-            let (i, j) = (n.index(), position(n));
-            if area[j].abs() > tolerance {
-                aux[i][k] + vaux0[j][k] / area[j]
-            } else {
-                aux[i][k]
-            }
-        };
+        let first_value =
+            |n: NodeIdx, k: usize| after_first(aux, (vaux0, area, tolerance), (n, position(n)), k);
         'pending: while let Some(mapped) = pending.front() {
             let pairs = kept_pairs(m, std::slice::from_ref(mapped), tasks.store).skip(next);
             for (sc, mc, packed) in pairs {
@@ -158,7 +191,7 @@ pub(super) fn stream_first_iterations(
                 if nodes.iter().any(|&n| done_with[position(n)] > done) {
                     break 'pending;
                 }
-                residual.add_with(m, (sc, mc, packed), vaux1, after_first);
+                residual.add_with(m, (sc, mc, packed), vaux1, first_value);
                 next += 1;
             }
             pending.pop_front();
