@@ -529,18 +529,7 @@ fn profile_has_every_phase_and_stage() {
         assert!(named("search").contains(&stage), "{stage}: {stages:?}");
     }
     assert_eq!(named("write")[0], "RESULT.json");
-    for phase in ["read", "initialize", "search", "write"] {
-        let sum: f64 = stages
-            .iter()
-            .filter(|s| s["phase"] == phase)
-            .map(|s| s["seconds"].as_f64().unwrap())
-            .sum();
-        let total = p["phases"][phase].as_f64().unwrap();
-        assert!(
-            (sum - total).abs() <= 1e-9 * total.max(1.0),
-            "{phase}: {sum} vs {total}"
-        );
-    }
+    assert_phases_add_up(&p, &["read", "initialize", "search", "write"]);
     let plain = csm_json(&["search", mesh.to_str().unwrap(), "--quiet"]);
     let with: Value = serde_json::from_str(&std::fs::read_to_string(&result).unwrap()).unwrap();
     assert_eq!(without_timings(with), without_timings(plain));
@@ -603,19 +592,8 @@ fn the_scaling_script_makes_every_run() {
             phases,
             ["read", "initialize", "search", "truth", "write", "total"]
         );
+        assert_phases_add_up(p, &["read", "initialize", "search", "truth", "write"]);
         let stages = p["stages"].as_array().unwrap();
-        for phase in ["read", "initialize", "search", "truth", "write"] {
-            let sum: f64 = stages
-                .iter()
-                .filter(|s| s["phase"] == phase)
-                .map(|s| s["seconds"].as_f64().unwrap())
-                .sum();
-            let total = p["phases"][phase].as_f64().unwrap();
-            assert!(
-                (sum - total).abs() <= 1e-9 * total.max(1.0),
-                "demo {phase}: {sum} vs {total}"
-            );
-        }
         let named: Vec<&str> = stages
             .iter()
             .filter(|s| s["phase"] == "write")
@@ -624,6 +602,23 @@ fn the_scaling_script_makes_every_run() {
         assert_eq!(named[..2], ["RESULT.json", "VTU"]);
     });
     assert!(!dir.join("demo").exists(), "the demo's files are removed");
+}
+
+/// In the profile `p`, each of `phases` is the sum of its stages.
+fn assert_phases_add_up(p: &Value, phases: &[&str]) {
+    let stages = p["stages"].as_array().unwrap();
+    for phase in phases {
+        let sum: f64 = stages
+            .iter()
+            .filter(|s| s["phase"] == *phase)
+            .map(|s| s["seconds"].as_f64().unwrap())
+            .sum();
+        let total = p["phases"][*phase].as_f64().unwrap();
+        assert!(
+            (sum - total).abs() <= 1e-9 * total.max(1.0),
+            "{phase}: {sum} vs {total}"
+        );
+    }
 }
 
 /// The runs of one scene of `tools/scaling_runs.sh` with threads 1, 2 and rounds 1, 2: each
