@@ -241,12 +241,7 @@ fn result_json_follows_the_contract() {
     let v: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
     assert_eq!(result_keys(&v), RESULT_KEYS);
     assert_eq!(v["format"], "csm-result/1");
-    let timing_keys: Vec<&str> = v["timings_s"]
-        .as_object()
-        .unwrap()
-        .keys()
-        .map(String::as_str)
-        .collect();
+    let timing_keys = crate::object_keys(&v["timings_s"]);
     assert_eq!(timing_keys, ["read", "initialize", "search", "total"]);
     let pairs = v["pairs"].as_object().unwrap();
     assert_eq!(pairs.keys().collect::<Vec<_>>(), ["0"]);
@@ -500,12 +495,7 @@ fn profile_has_every_phase_and_stage() {
     let p: Value = serde_json::from_str(&std::fs::read_to_string(&profile).unwrap()).unwrap();
     assert_eq!(p["format"], "csm-profile/1");
     assert_eq!(p["threads"], 2);
-    let phases: Vec<&str> = p["phases"]
-        .as_object()
-        .unwrap()
-        .keys()
-        .map(String::as_str)
-        .collect();
+    let phases = crate::object_keys(&p["phases"]);
     assert_eq!(phases, ["read", "initialize", "search", "write", "total"]);
     let stages = p["stages"].as_array().unwrap();
     let named = |phase: &str| -> Vec<&str> {
@@ -582,12 +572,7 @@ fn the_scaling_script_makes_every_run() {
     // `demo:300`: `csm demo --profile`, its phases adding up, the same result each run.
     let dir = out.join("demo_300");
     check_scaling_runs(&dir, |p| {
-        let phases: Vec<&str> = p["phases"]
-            .as_object()
-            .unwrap()
-            .keys()
-            .map(String::as_str)
-            .collect();
+        let phases = crate::object_keys(&p["phases"]);
         assert_eq!(
             phases,
             ["read", "initialize", "search", "truth", "write", "total"]

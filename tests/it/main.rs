@@ -67,15 +67,19 @@ pub const RESULT_KEYS: [&str; 6] = [
 /// file ids are not 1..N.
 pub const OPTIONAL_RESULT_KEYS: [&str; 2] = ["master_slave_constraints", "kratos_condition_ids"];
 
+/// The keys of the JSON object `v`, in order.
+pub fn object_keys(v: &serde_json::Value) -> Vec<&str> {
+    v.as_object()
+        .expect("a JSON object")
+        .keys()
+        .map(String::as_str)
+        .collect()
+}
+
 /// The top-level keys of RESULT.json `v`, in order, without the optional ones (which must
 /// stand right after `paired_conditions`, in their order).
 pub fn result_keys(v: &serde_json::Value) -> Vec<&str> {
-    let all: Vec<&str> = v
-        .as_object()
-        .expect("RESULT.json is an object")
-        .keys()
-        .map(String::as_str)
-        .collect();
+    let all = object_keys(v);
     let optional: Vec<&str> = all
         .iter()
         .copied()

@@ -2,7 +2,8 @@
 //! pair creation (No/DirectCheck, `AddPotentialPairing` / `AddPairing`, reference §9–§10.5),
 //! applied serially in slave order.
 
-use csm_model::{ConditionId, ConditionIdx, Flag, ModelPart};
+use csm_model::{ConditionId, ConditionIdx, Flag, IndexMap, ModelPart};
+use rayon::prelude::*;
 
 use super::candidates::{Candidate, slave_search_nodes};
 use super::filters::same_stored_normal;
@@ -78,6 +79,37 @@ pub(crate) fn direct_check_count(
         }
     }
     counted
+}
+
+/// Updates the INDEX_MAPs of the slaves of `entries` in parallel, each slave's map alone:
+/// `entries` holds each slave's (`slave(entry)`) entries consecutively, and
+/// `update(map, first, group)` gets a slave's map, the position of its first entry in
+/// `entries` and its entries, in order.
+pub(crate) fn update_index_maps<T: Sync>(
+    model: &mut ModelPart,
+    entries: &[T],
+    slave: impl Fn(&T) -> ConditionIdx + Sync,
+    update: impl Fn(&mut IndexMap, usize, &[T]) + Sync,
+) {
+    const NONE: u32 = u32::MAX;
+    let starts: Vec<usize> = (0..entries.len())
+        .into_par_iter()
+        .filter(|&k| k == 0 || slave(&entries[k]) != slave(&entries[k - 1]))
+        .collect();
+    let mut group_of = vec![NONE; model.conditions().len()];
+    for (g, &k) in starts.iter().enumerate() {
+        group_of[slave(&entries[k]).index()] = u32::try_from(g).expect("slave groups fit u32");
+    }
+    model
+        .index_maps_mut()
+        .par_iter_mut()
+        .zip(group_of.par_iter())
+        .filter(|(_, g)| **g != NONE)
+        .for_each(|(map, &g)| {
+            let g = g as usize;
+            let end = starts.get(g + 1).copied().unwrap_or(entries.len());
+            update(map, starts[g], &entries[starts[g]..end]);
+        });
 }
 
 /// MappingCheck's CheckCondition for the candidate master `m` of slave `s` (id `slave_id`):

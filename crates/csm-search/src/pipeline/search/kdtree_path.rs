@@ -319,26 +319,18 @@ fn mapping_check_in_parallel(
                 .map(move |c| (k as u32, ConditionId(ids[c.master.index()])))
         })
         .collect();
-    // Each slave's entries, found by the condition's index.
-    let groups: Vec<&[(u32, ConditionId)]> = kept.par_chunk_by(|a, b| a.0 == b.0).collect();
-    let mut group_of = slot;
-    group_of.fill(NONE);
-    for (g, group) in groups.iter().enumerate() {
-        group_of[slaves[group[0].0 as usize].index()] = g as u32;
-    }
-    model
-        .index_maps_mut()
-        .par_iter_mut()
-        .zip(group_of.par_iter())
-        .filter(|(_, g)| **g != NONE)
-        .for_each(|(map, &g)| {
-            let group = groups[g as usize];
+    update_index_maps(
+        model,
+        &kept,
+        |&(k, _)| slaves[k as usize],
+        |map, _, group| {
             // One allocation per map (the entries would grow it a few times each).
             map.reserve(group.len());
             for &(_, master) in group {
                 map.add_id(master);
             }
-        });
+        },
+    );
     true
 }
 

@@ -20,7 +20,9 @@ use super::globals::PairGlobals;
 use super::motion::{apply_nodal_values, check_step_parts, step_positions};
 use super::octree::{OctreeContext, search_octree_report};
 pub use super::pairing::PairedCondition;
-use super::pairing::{PairingContext, active_snapshot, apply_candidates, mapping_check_keeps};
+use super::pairing::{
+    PairingContext, active_snapshot, apply_candidates, mapping_check_keeps, update_index_maps,
+};
 use super::result::{NodeResult, SearchResult};
 use super::self_contact::{compute_self_contact_pairing, not_predefined_master_slave};
 use super::shared_conditions::check_contact_model_parts;

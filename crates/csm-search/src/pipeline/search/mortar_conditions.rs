@@ -293,26 +293,16 @@ pub(super) fn finish_pairs(
         .collect();
     // Each slave's pairs are consecutive (sorted by slave id): its INDEX_MAP takes them in
     // master id order, as one pass over the pairs would give them; slaves in parallel.
-    let starts: Vec<usize> = (0..created.len())
-        .into_par_iter()
-        .filter(|&k| k == 0 || created[k].0 != created[k - 1].0)
-        .collect();
-    let mut group_of = vec![u32::MAX; model.conditions().len()];
-    for (g, &k) in starts.iter().enumerate() {
-        group_of[created[k].0.index()] = u32::try_from(g).expect("slave groups fit u32");
-    }
-    model
-        .index_maps_mut()
-        .par_iter_mut()
-        .zip(group_of.par_iter())
-        .filter(|(_, g)| **g != u32::MAX)
-        .for_each(|(map, &g)| {
-            let g = g as usize;
-            let end = starts.get(g + 1).copied().unwrap_or(created.len());
-            for (k, &master) in masters.iter().enumerate().take(end).skip(starts[g]) {
-                map.set_new_entity_id(master, id_of(k));
+    update_index_maps(
+        model,
+        &created,
+        |&(s, _)| s,
+        |map, first, group| {
+            for (k, _) in (first..).zip(group) {
+                map.set_new_entity_id(masters[k], id_of(k));
             }
-        });
+        },
+    );
     pair.paired.reserve(created.len());
     pair.paired.par_extend(
         created
