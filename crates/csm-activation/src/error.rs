@@ -25,6 +25,9 @@ pub enum ErrorKind {
     },
     /// The model's data does not fit (a nodal variable of the wrong length, …).
     Data(String),
+    /// A distributed run: another rank failed ([`csm_model::Aborted`]); the caller leaves
+    /// through [`csm_model::Ranks::agree_on_failure`].
+    Aborted,
 }
 
 impl Error {
@@ -41,6 +44,12 @@ impl Error {
     pub(crate) fn message_only(message: String) -> Error {
         Error {
             kind: ErrorKind::Data(message),
+        }
+    }
+
+    pub(crate) fn aborted(_: csm_model::Aborted) -> Error {
+        Error {
+            kind: ErrorKind::Aborted,
         }
     }
 
@@ -64,6 +73,7 @@ impl fmt::Display for Error {
                 source,
             } => write!(f, "{what} of condition {condition}: {source}"),
             ErrorKind::Data(message) => f.write_str(message),
+            ErrorKind::Aborted => write!(f, "{}", csm_model::Aborted),
         }
     }
 }
@@ -72,7 +82,7 @@ impl std::error::Error for Error {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match &self.kind {
             ErrorKind::Condition { source, .. } => Some(source),
-            ErrorKind::Data(_) => None,
+            ErrorKind::Data(_) | ErrorKind::Aborted => None,
         }
     }
 }

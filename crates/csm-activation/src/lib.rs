@@ -37,7 +37,7 @@ pub use error::{Error, ErrorKind};
 pub use mapping::{
     GATHER_FROM_THREADS, MAPPER_ABSOLUTE_TOLERANCE, MAPPER_MAX_ITERATIONS,
     MAPPER_RELATIVE_TOLERANCE, MappingReport, MappingSettings, MappingTuning, NORMAL_GAP_SENTINEL,
-    RemovedEntry, mean_h, normal_gap_process, normal_gap_process_keeping,
+    RemovedEntry, mean_h, mean_h_shared, normal_gap_process, normal_gap_process_keeping,
 };
 pub use multiplier::{MultiplierKind, MultiplierSettings};
 pub use overlap::{mapping_normals, overlap_measure};

@@ -110,6 +110,7 @@ fn settings() -> MappingSettings {
             stream_min_entries: 0,
             ..MappingTuning::default()
         },
+        ranks: None,
     }
 }
 
@@ -638,7 +639,7 @@ fn master_products_map_as_the_operators() {
                 full_operators: true,
                 ..settings.tuning
             },
-            ..settings
+            ..settings.clone()
         };
         let b = normal_gap_process(&mut model, sub, &full, None).unwrap();
         assert_eq!(a, b, "inverted: {inverted}");
@@ -884,7 +885,7 @@ fn streamed_mapping_maps_as_the_stored_one() {
                         gather_from_threads: if gather { 1 } else { usize::MAX },
                         ..settings.tuning
                     },
-                    ..settings
+                    ..settings.clone()
                 };
                 let r = normal_gap_process_keeping(&mut m, sub, &tuned, None, &unit_normals);
                 let (report, known) = r.unwrap();

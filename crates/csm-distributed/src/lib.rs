@@ -18,6 +18,12 @@
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
+mod run;
+mod threads;
+
+pub use run::{RunError, distributed_pair, search_rank};
+pub use threads::{ThreadTransport, thread_ranks};
+
 use csm_geometry::GeometryKind;
 use csm_model::{EntityArrays, MeshArrays, PartArrays};
 
@@ -145,11 +151,32 @@ pub struct RankPart {
 /// 4. every node these use.
 pub fn split(
     mesh: &MeshArrays,
-    (slaves, contact): (&[&str], &[&str]),
+    roles: (&[&str], &[&str]),
     ranks: usize,
     reach: Reach,
 ) -> Result<Vec<RankPart>, SplitError> {
-    if ranks == 0 {
+    parts_of(mesh, roles, (ranks, 0..ranks as u32), reach)
+}
+
+/// The part of rank `rank` of [`split`] alone (what each rank of a distributed run builds).
+pub fn split_rank(
+    mesh: &MeshArrays,
+    roles: (&[&str], &[&str]),
+    (ranks, rank): (usize, usize),
+    reach: Reach,
+) -> Result<RankPart, SplitError> {
+    let mut parts = parts_of(mesh, roles, (ranks, rank as u32..rank as u32 + 1), reach)?;
+    parts.pop().ok_or(SplitError::NoRanks)
+}
+
+/// The parts of the ranks `which` of a split for `ranks` ranks.
+fn parts_of(
+    mesh: &MeshArrays,
+    (slaves, contact): (&[&str], &[&str]),
+    (ranks, which): (usize, std::ops::Range<u32>),
+    reach: Reach,
+) -> Result<Vec<RankPart>, SplitError> {
+    if ranks == 0 || which.end as usize > ranks {
         return Err(SplitError::NoRanks);
     }
     let point_of: HashMap<u32, [f64; 3]> = mesh
@@ -207,12 +234,29 @@ pub fn split(
         .iter()
         .map(|&id| shape(id))
         .collect::<Result<_, _>>()?;
+    let largest_master_radius = master_shapes.iter().map(|s| s.1).fold(0.0, f64::max);
     let keyed: Vec<([f64; 3], u32)> = slave_shapes
         .iter()
         .zip(&slave_ids)
         .map(|((c, _), &id)| (*c, id))
         .collect();
     let owner = rcb(&keyed, ranks);
+    // The contact parts' nodes on no contact condition (a part's node list may name more
+    // nodes than its conditions use): split by their own bisection.
+    let on_conditions: BTreeSet<u32> = (slave_ids.iter().chain(&master_ids))
+        .flat_map(|id| conditions[id].iter().copied())
+        .collect();
+    let mut loose: BTreeSet<u32> = BTreeSet::new();
+    for name in slaves.iter().chain(contact) {
+        if let Some(part) = mesh.parts.get(*name) {
+            loose.extend(part.nodes.iter().filter(|n| !on_conditions.contains(n)));
+        }
+    }
+    let loose_nodes: Vec<([f64; 3], u32)> = loose
+        .iter()
+        .filter_map(|n| point_of.get(n).map(|p| (*p, *n)))
+        .collect();
+    let loose_owner = rcb(&loose_nodes, ranks);
     // Slave nodes: the slave conditions at each, ascending by id (the slave ids are).
     let mut at_node: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
     for (s, id) in slave_ids.iter().enumerate() {
@@ -229,25 +273,27 @@ pub fn split(
             masters_at_node.entry(n).or_default().push(m);
         }
     }
-    let mut parts = Vec::with_capacity(ranks);
-    for rank in 0..ranks as u32 {
+    let mut parts = Vec::with_capacity(which.len());
+    for rank in which {
         let owned: Vec<usize> = (0..slave_ids.len()).filter(|&s| owner[s] == rank).collect();
-        // 1. The owned slaves and their ring.
+        // 1. The owned slaves and two rings around them: the nodal sums at an owned node
+        // read every slave condition at it (the first ring), and those conditions' operators
+        // read the mean normals of all their nodes, sums over the conditions at them (the
+        // second ring).
         let mut held_slaves: BTreeSet<usize> = owned.iter().copied().collect();
-        for &s in &owned {
-            for n in conditions[&slave_ids[s]] {
-                held_slaves.extend(at_node[n].iter().copied());
+        for _ in 0..2 {
+            let inner: Vec<usize> = held_slaves.iter().copied().collect();
+            for s in inner {
+                for n in conditions[&slave_ids[s]] {
+                    held_slaves.extend(at_node[n].iter().copied());
+                }
             }
         }
         // 2. The masters within reach of a held slave.
+        let held: Vec<([f64; 3], f64)> = held_slaves.iter().map(|&s| slave_shapes[s]).collect();
+        let near = Near::new(&held, reach, largest_master_radius);
         let held_masters: Vec<usize> = (0..master_ids.len())
-            .filter(|&m| {
-                let (cm, rm) = master_shapes[m];
-                held_slaves.iter().any(|&s| {
-                    let (cs, rs) = slave_shapes[s];
-                    distance(&cs, &cm) <= reach.factor * rs + rm
-                })
-            })
+            .filter(|&m| near.reaches(master_shapes[m]))
             .collect();
         // The masters sharing a node with one of these (the mean normals at a master node
         // sum over every master condition at it).
@@ -262,10 +308,17 @@ pub fn split(
             .map(|&s| slave_ids[s])
             .chain(ring.iter().map(|&m| master_ids[m]))
             .collect();
-        let contact_nodes: BTreeSet<u32> = held_conditions
+        let mut contact_nodes: BTreeSet<u32> = held_conditions
             .iter()
             .flat_map(|id| conditions[id].iter().copied())
             .collect();
+        // The contact parts' nodes on no contact condition that this rank holds for the
+        // largest and the mean NODAL_H (they count there as in the one-process run).
+        contact_nodes.extend(
+            (loose_nodes.iter().zip(&loose_owner))
+                .filter(|(_, o)| **o == rank)
+                .map(|(n, _)| n.1),
+        );
         // 3. The elements around the contact nodes, two layers deep (the normal check's probe
         // point, a fraction of an element inside the body, can fall past the first layer);
         // 4. every node used.
@@ -301,11 +354,12 @@ pub fn split(
             .iter()
             .map(|(path, p)| {
                 let kept = PartArrays {
+                    // Only the nodes whose elements are all held (their NODAL_H is whole).
                     nodes: p
                         .nodes
                         .iter()
                         .copied()
-                        .filter(|n| used.contains(n))
+                        .filter(|n| contact_nodes.contains(n))
                         .collect(),
                     elements: p
                         .elements
@@ -344,6 +398,67 @@ pub fn split(
         });
     }
     Ok(parts)
+}
+
+/// The held slaves (centre, radius) bucketed in a grid whose cells are as wide as the
+/// farthest reach, so that a master's reaching slaves lie in the 27 cells around it.
+struct Near<'a> {
+    slaves: &'a [([f64; 3], f64)],
+    reach: Reach,
+    cell: f64,
+    cells: HashMap<[i64; 3], Vec<usize>>,
+}
+
+impl<'a> Near<'a> {
+    fn new(slaves: &'a [([f64; 3], f64)], reach: Reach, largest_master_radius: f64) -> Near<'a> {
+        let farthest = slaves
+            .iter()
+            .map(|s| reach.factor * s.1)
+            .fold(0.0, f64::max);
+        let cell = farthest + largest_master_radius;
+        let cell = if cell.is_finite() && cell > 0.0 {
+            cell
+        } else {
+            1.0
+        };
+        let mut cells: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+        for (k, (c, _)) in slaves.iter().enumerate() {
+            cells.entry(cell_of(c, cell)).or_default().push(k);
+        }
+        Near {
+            slaves,
+            reach,
+            cell,
+            cells,
+        }
+    }
+
+    /// Whether a master (centre, radius) is within reach of some slave: `distance ≤ factor ·
+    /// slave radius + master radius`.
+    fn reaches(&self, (cm, rm): ([f64; 3], f64)) -> bool {
+        let at = cell_of(&cm, self.cell);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let key = [at[0] + dx, at[1] + dy, at[2] + dz];
+                    let Some(list) = self.cells.get(&key) else {
+                        continue;
+                    };
+                    if list.iter().any(|&k| {
+                        let (cs, rs) = self.slaves[k];
+                        distance(&cs, &cm) <= self.reach.factor * rs + rm
+                    }) {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+}
+
+fn cell_of(p: &[f64; 3], cell: f64) -> [i64; 3] {
+    p.map(|x| (x / cell).floor() as i64)
 }
 
 fn distance(a: &[f64; 3], b: &[f64; 3]) -> f64 {

@@ -19,6 +19,7 @@
 #![deny(missing_docs)]
 
 mod arrays;
+pub mod collective;
 mod entities;
 mod error;
 mod flags;
@@ -35,6 +36,7 @@ mod properties;
 mod time_step;
 
 pub use arrays::{EntityArrays, MeshArrays, PartArrays};
+pub use collective::{Aborted, Ranks, Transport};
 pub use entities::{Entities, Nodes};
 pub use error::{EntityKind, Error, ErrorKind};
 pub use flags::{Flag, Flags};

@@ -63,6 +63,8 @@ pub enum ErrorKind {
     },
     /// The mapping or the weighted gap failed; its error is the source.
     Activation(csm_activation::Error),
+    /// A distributed run: another rank failed ([`csm_model::Aborted`]).
+    Aborted,
 }
 
 impl Error {
@@ -95,6 +97,12 @@ impl Error {
         self.file = Some(file.to_owned());
         self.line = line;
         self
+    }
+}
+
+impl From<csm_model::Aborted> for Error {
+    fn from(_: csm_model::Aborted) -> Error {
+        Error::new(ErrorKind::Aborted)
     }
 }
 
@@ -139,6 +147,7 @@ impl fmt::Display for Error {
             ErrorKind::ModelData { context, source } => with_context(f, context, source),
             ErrorKind::Tree { context, source } => with_context(f, context, source),
             ErrorKind::Activation(source) => write!(f, "{source}"),
+            ErrorKind::Aborted => write!(f, "{}", csm_model::Aborted),
         }
     }
 }
@@ -175,6 +184,16 @@ impl Error {
             source,
         }
         .into()
+    }
+
+    /// Whether a distributed run stopped here because another rank failed (the caller leaves
+    /// through [`csm_model::Ranks::agree_on_failure`]).
+    pub fn is_aborted(&self) -> bool {
+        match &self.kind {
+            ErrorKind::Aborted => true,
+            ErrorKind::Activation(e) => matches!(e.kind(), csm_activation::ErrorKind::Aborted),
+            _ => false,
+        }
     }
 
     /// A tree's error, naming the tree.

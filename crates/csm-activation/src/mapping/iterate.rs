@@ -144,7 +144,21 @@ pub(super) fn kratos_iterations(
         mut first,
         mut per_slave,
     } = segmented;
-    let n_d = s.slave_nodes.len().max(1) as Real;
+    let ranks = tasks.ranks;
+    let node_ids = m.nodes().ids();
+    // A distributed run: which slave nodes this rank owns (it adds their terms to the sums)
+    // and which it holds as ghosts (their values come from their owners).
+    let owned: Vec<bool> = (s.slave_nodes.iter())
+        .map(|n| ranks.is_none_or(|r| r.owns_node(node_ids[n.index()])))
+        .collect();
+    let n_slaves = match ranks {
+        Some(r) => {
+            let here = owned.iter().filter(|o| **o).count() as u64;
+            r.sum_count(here).map_err(Error::aborted)? as usize
+        }
+        None => s.slave_nodes.len(),
+    };
+    let n_d = n_slaves.max(1) as Real;
     let mut r0: [Real; 3] = [0.0; 3];
     let mut r_prev: [Real; 3] = [0.0; 3];
     let mut end = IterationsEnd {
@@ -194,6 +208,8 @@ pub(super) fn kratos_iterations(
         }
         let mut sums = [0.0; 3];
         let mut largest: Real = 0.0;
+        // A distributed run: this rank's owned terms, added below in the whole problem's order.
+        let mut terms = Vec::new();
         for (j, n) in s.slave_nodes.iter().enumerate() {
             let i = n.index();
             if area[j].abs() > AREA_TOLERANCE * ref_area {
@@ -201,11 +217,32 @@ pub(super) fn kratos_iterations(
                 for k in 0..dim {
                     aux[i][k] += correction[k];
                 }
-                largest = largest.max(correction.norm());
+                if owned[j] {
+                    largest = largest.max(correction.norm());
+                }
+            }
+            if ranks.is_some() {
+                if owned[j] {
+                    let mut t = [0.0; 3];
+                    for (k, t) in t.iter_mut().enumerate().take(dim) {
+                        *t = vaux[j][k] * vaux[j][k];
+                    }
+                    terms.push((node_ids[i], t));
+                }
+                continue;
             }
             for (k, sum) in sums.iter_mut().enumerate().take(dim) {
                 *sum += vaux[j][k] * vaux[j][k];
             }
+        }
+        if let Some(r) = ranks {
+            for (_, t) in r.terms(&terms).map_err(Error::aborted)? {
+                for (sum, t) in sums.iter_mut().zip(t).take(dim) {
+                    *sum += t;
+                }
+            }
+            largest = r.max(largest).map_err(Error::aborted)?;
+            exchange_ghosts(m, (s, &owned), r, aux)?;
         }
         for k in 0..dim {
             let r = sums[k].sqrt() / n_d;
@@ -224,6 +261,39 @@ pub(super) fn kratos_iterations(
         end.iterations += 1;
     }
     Ok(end)
+}
+
+/// A distributed run's ghost slave nodes (`owned[j]` false) take the values `aux` their owners
+/// computed.
+fn exchange_ghosts(
+    m: &ModelPart,
+    (s, owned): (&Sides, &[bool]),
+    ranks: &csm_model::Ranks,
+    aux: &mut [Vector],
+) -> Result<(), Error> {
+    let ids = m.nodes().ids();
+    let mut mine = Vec::new();
+    let mut ghosts = Vec::new();
+    for (n, &o) in s.slave_nodes.iter().zip(owned) {
+        if o {
+            let v = aux[n.index()];
+            mine.push((ids[n.index()], [v[0], v[1], v[2]]));
+        } else {
+            ghosts.push(*n);
+        }
+    }
+    let wanted: Vec<u32> = ghosts.iter().map(|n| ids[n.index()]).collect();
+    let values = ranks.values(&mine, &wanted).map_err(Error::aborted)?;
+    for (n, v) in ghosts.iter().zip(values) {
+        let v = v.ok_or_else(|| {
+            Error::message_only(format!(
+                "distributed mapping: no rank owns slave node {}",
+                ids[n.index()]
+            ))
+        })?;
+        aux[n.index()] = Vector::new(v[0], v[1], v[2]);
+    }
+    Ok(())
 }
 
 /// Robust mode's mapping, solved directly from the pairs of `per_slave` packed in the

@@ -21,7 +21,7 @@ use csm_geometry::math::{EPS, Real, Vector, norm_kratos};
 use csm_geometry::{LargestArea, MortarMode, OperatorSettings, SegmentationSettings};
 use csm_model::{
     ConditionId, ConditionIdx, Flag, GATHER_BLOCK, GatheredPoints, KeptFaceNormals, ModelPart,
-    PartIdx, ScalarVar, VectorVar,
+    PartIdx, Ranks, ScalarVar, VectorVar,
 };
 
 use rayon::prelude::*;
@@ -31,8 +31,8 @@ use crate::weighted_gap::KnownGaps;
 
 pub(crate) use mean_normals::{mean_normals, normals_read};
 pub(crate) use segment::OperatorStore;
-pub use sides::mean_h;
 pub(crate) use sides::{SlavePositions, sides};
+pub use sides::{mean_h, mean_h_shared};
 
 use iterate::{Segmented, kratos_iterations, solve_relative};
 use segment::{Segmenting, WeightedGapInputs, kept_only, segment_slaves};
@@ -55,7 +55,7 @@ pub const MAPPER_MAX_ITERATIONS: usize = 10;
 const AREA_TOLERANCE: Real = 1e-4;
 
 /// Settings of [`normal_gap_process`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct MappingSettings {
     /// Kratos' rules or the robust segmentation.
     pub mode: MortarMode,
@@ -67,6 +67,13 @@ pub struct MappingSettings {
     pub dim: usize,
     /// How the work is organised ([`MappingTuning::default`] in production).
     pub tuning: MappingTuning,
+    /// A distributed run: this rank's part of it (`None`: one process). The model is then the
+    /// rank's part (`csm-distributed`): the mapping shares the reference area, the slave
+    /// node count and every iteration's convergence sums with the other ranks, takes its ghost
+    /// slave nodes' values from their owners after every iteration, and counts what it reports
+    /// over the slave conditions and nodes it owns, so that every owned value is the one of
+    /// the one-process run, bit for bit (`docs/distributed.md`).
+    pub ranks: Option<Ranks>,
 }
 
 /// How the mapping organises its work in kratos mode. No choice changes a result — every
@@ -355,7 +362,10 @@ fn normal_gap_process_inner(
     for a in areas {
         largest = largest.merge(a?);
     }
-    let ref_area = largest.value();
+    let ref_area = match &settings.ranks {
+        Some(ranks) => ranks.max(largest.value()).map_err(Error::aborted)?,
+        None => largest.value(),
+    };
     // 3. Segmentation of every INDEX_MAP entry, with the first two mapper iterations where
     // they can follow it (`streamed`). Robust mode keeps each pair's moments relative to its
     // slave nodes instead, for the direct solve.
@@ -374,11 +384,16 @@ fn normal_gap_process_inner(
         weighted_gap,
         stream_batch: settings.tuning.stream_batch.max(1),
         gather_from_threads: settings.tuning.gather_from_threads,
+        ranks: settings.ranks.as_ref(),
     };
     let mut report = MappingReport::default();
     let mut standard = Vec::new();
     let m = &*model;
-    let (segmented, gaps) = if streams(m, &s, &slaves, tasks.store, &settings.tuning) {
+    // A rank's streamed second iteration would read its ghost slave nodes' values before
+    // their owners computed them: a distributed run iterates over the kept operators.
+    let streamed =
+        settings.ranks.is_none() && streams(m, &s, &slaves, tasks.store, &settings.tuning);
+    let (segmented, gaps) = if streamed {
         let mut first = stream_first_iterations(
             m,
             &s,
@@ -408,11 +423,21 @@ fn normal_gap_process_inner(
         };
         (segmented, gaps)
     };
-    report.standard_basis_pairs = standard.len();
-    report.standard_basis_nodes = count_slave_nodes(m, &standard, (&slaves, s.slave_nodes.len()));
     let known = KnownGaps::new(gaps);
     for r in &report.removed {
         model.index_map_mut(r.slave).remove_id(r.master);
+    }
+    let m = &*model;
+    match &settings.ranks {
+        None => {
+            report.standard_basis_pairs = standard.len();
+            report.standard_basis_nodes =
+                count_slave_nodes(m, &standard, (&slaves, s.slave_nodes.len()));
+        }
+        Some(ranks) => {
+            globalize_counts(m, (&s, &slaves), ranks, (&mut report, standard))
+                .map_err(Error::aborted)?;
+        }
     }
     // 4. The mapping: Kratos' explicit iterations, or robust mode's direct solve (relative to
     // each slave node: `relative[j]` is the mapped point minus the node, `None` where the
@@ -446,14 +471,26 @@ fn normal_gap_process_inner(
             (&mut aux, &mut area),
             (dim, ref_area, report.kept),
         )?;
+        let origin = |n: &csm_model::NodeIdx, a: &Real| {
+            a.abs() > AREA_TOLERANCE * ref_area && norm_kratos(&aux[n.index()]) <= EPS
+        };
         report.iterations = end.iterations;
         report.converged = end.converged;
         report.last_correction = end.last_correction;
         if o {
-            let tolerance = AREA_TOLERANCE * ref_area;
-            report.origin_nodes = (s.slave_nodes.iter().zip(&area))
-                .filter(|(n, a)| a.abs() > tolerance && norm_kratos(&aux[n.index()]) <= EPS)
+            let ids = m.nodes().ids();
+            let owned = |n: &csm_model::NodeIdx| {
+                (settings.ranks.as_ref()).is_none_or(|r| r.owns_node(ids[n.index()]))
+            };
+            let origin_nodes = (s.slave_nodes.iter().zip(&area))
+                .filter(|(n, a)| owned(n) && origin(n, a))
                 .count();
+            report.origin_nodes = match &settings.ranks {
+                Some(ranks) => ranks
+                    .sum_count(origin_nodes as u64)
+                    .map_err(Error::aborted)? as usize,
+                None => origin_nodes,
+            };
         }
         None
     };
@@ -498,6 +535,37 @@ fn normal_gap_process_inner(
     data.set_vector(VectorVar::AuxiliarCoordinates, aux)
         .map_err(|_| Error::message_only("AUXILIAR_COORDINATES: not one value per node".into()))?;
     Ok((report, known))
+}
+
+/// A distributed run's report counts over the whole problem: the kept entries of the owned
+/// slave conditions (what the iterations start from), their standard-basis pairs
+/// (`standard`: the slave condition of each such pair on this rank) and the distinct slave
+/// nodes of these, and the lost projections (counted over the owned conditions already).
+fn globalize_counts(
+    m: &ModelPart,
+    (s, slaves): (&sides::Sides, &SlavePositions),
+    ranks: &Ranks,
+    (report, standard): (&mut MappingReport, Vec<ConditionIdx>),
+) -> Result<(), csm_model::Aborted> {
+    let ids = m.conditions().ids();
+    let owned = |c: &ConditionIdx| ranks.owns_condition(ids[c.index()]);
+    let kept: usize = (s.slave_conditions.iter())
+        .filter(|c| owned(c))
+        .map(|&c| m.index_map(c).len())
+        .sum();
+    report.kept = ranks.sum_count(kept as u64)? as usize;
+    let standard: Vec<ConditionIdx> = standard.into_iter().filter(owned).collect();
+    report.standard_basis_pairs = ranks.sum_count(standard.len() as u64)? as usize;
+    let node_ids = m.nodes().ids();
+    let nodes: Vec<(u32, [Real; 3])> = standard
+        .iter()
+        .flat_map(|c| m.conditions().nodes(c.index()))
+        .filter(|&&n| slaves.get(n).is_some())
+        .map(|n| (node_ids[n.index()], [0.0; 3]))
+        .collect();
+    report.standard_basis_nodes = ranks.terms(&nodes)?.len();
+    report.lost_projections = ranks.sum_count(report.lost_projections as u64)? as usize;
+    Ok(())
 }
 
 /// The number of distinct slave nodes (`slaves`, `n_slaves` of them) of the conditions

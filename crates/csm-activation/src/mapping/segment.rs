@@ -7,7 +7,7 @@ use csm_geometry::{
     Segmentation, SegmentationSettings, SlaveSegmentation, dual_basis_in, integration_points,
     line_projections_lost_to_rounding, mortar_operators,
 };
-use csm_model::{ConditionId, ConditionIdx, ModelPart};
+use csm_model::{ConditionId, ConditionIdx, ModelPart, Ranks};
 
 use rayon::prelude::*;
 
@@ -169,6 +169,9 @@ pub(super) struct Segmenting<'a> {
     /// Gather the streamed sums by node from this many threads on
     /// ([`super::MappingTuning::gather_from_threads`]).
     pub(super) gather_from_threads: usize,
+    /// A distributed run: the counts of the report (lost projections) take this rank's
+    /// owned slave conditions only.
+    pub(super) ranks: Option<&'a Ranks>,
 }
 
 /// Segments the INDEX_MAP entries of `slaves`, in parallel: their mappings in slave order,
@@ -197,12 +200,14 @@ pub(super) fn segment_slaves(
                 out.gaps.reserve_exact(entries);
             }
             for &sc in chunk {
+                let id = m.conditions().ids()[sc.index()];
+                let counted = tasks.ranks.is_none_or(|r| r.owns_condition(id));
                 map_slave(
                     m,
                     sc,
                     (&tasks.seg, &tasks.op),
                     (tasks.store, tasks.weighted_gap),
-                    &mut out,
+                    (&mut out, counted),
                 )?;
             }
             out.kept.shrink_to_fit();
@@ -244,13 +249,13 @@ pub(super) fn kept_pairs<'a>(
 
 /// Segments every INDEX_MAP entry of slave condition `sc`: entries without overlap are
 /// removed; the others get the dual basis and the mapper's `D`, `M` operators (appended to
-/// `out`).
+/// `out`; its lost projections where `counted`).
 fn map_slave(
     model: &ModelPart,
     sc: ConditionIdx,
     (seg_settings, op_settings): (&SegmentationSettings, &OperatorSettings),
     (store, weighted_gap): (OperatorStore, Option<WeightedGapInputs<'_>>),
-    out: &mut SlaveMapping,
+    (out, counted): (&mut SlaveMapping, bool),
 ) -> Result<(), Error> {
     let entries: Vec<(ConditionId, Option<ConditionId>)> = model.index_map(sc).iter().collect();
     if entries.is_empty() {
@@ -277,7 +282,7 @@ fn map_slave(
         let seg = segmentation
             .segment(&master)
             .map_err(|e| Error::condition("mortar segmentation", slave_id, &e))?;
-        if seg_settings.mode == MortarMode::Kratos {
+        if seg_settings.mode == MortarMode::Kratos && counted {
             out.lost_projections += line_projections_lost_to_rounding(&slave, &master);
         }
         let Some(seg) = seg.filter(|g| !g.cells().is_empty()) else {

@@ -67,6 +67,35 @@ pub fn mean_h(model: &ModelPart, sub: PartIdx, inverted: bool) -> Real {
     mean(Flag::SLAVE).max(mean(Flag::MASTER))
 }
 
+/// [`mean_h`] of a rank's part in a distributed run: each side's NODAL_H summed over the
+/// whole problem's nodes, in ascending id order (the one-process run's order where the nodes
+/// are numbered in their order), every node once.
+pub fn mean_h_shared(
+    model: &ModelPart,
+    sub: PartIdx,
+    inverted: bool,
+    ranks: &csm_model::Ranks,
+) -> Result<Real, crate::Error> {
+    let h = model.nodal_data().scalar(ScalarVar::NodalH, 0);
+    let nflags = model.nodes().flags();
+    let ids = model.nodes().ids();
+    let mut means = [0.0; 2];
+    for (mean, flag) in means.iter_mut().zip([Flag::SLAVE, Flag::MASTER]) {
+        let terms: Vec<(u32, [Real; 3])> = match h {
+            Some(h) => (model.part(sub).nodes().iter())
+                .filter(|n| nflags[n.index()].is(flag) != inverted)
+                .map(|n| (ids[n.index()], [h[n.index()], 0.0, 0.0]))
+                .collect(),
+            None => Vec::new(),
+        };
+        let all = ranks.terms(&terms).map_err(crate::Error::aborted)?;
+        if !all.is_empty() {
+            *mean = all.iter().map(|t| t.1[0]).sum::<Real>() / all.len() as Real;
+        }
+    }
+    Ok(means[0].max(means[1]))
+}
+
 /// The positions of the slave nodes in [`Sides::slave_nodes`] by node index: the mapper's
 /// arrays by slave node.
 pub(crate) struct SlavePositions(Vec<u32>);

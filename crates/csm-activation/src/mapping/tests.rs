@@ -87,6 +87,7 @@ fn map(model: &mut ModelPart, sub: PartIdx, mode: MortarMode) -> (MappingReport,
         inverted: false,
         dim: 3,
         tuning: MappingTuning::default(),
+        ranks: None,
     };
     let report = normal_gap_process(model, sub, &settings, None).unwrap();
     let gaps = model.nodal_data().scalar(ScalarVar::NormalGap, 0).unwrap()[..4].to_vec();

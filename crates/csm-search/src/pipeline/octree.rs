@@ -78,6 +78,8 @@ pub(crate) struct OctreeContext<'a> {
     pub active_before: Option<Vec<bool>>,
     /// The whole problem's largest NODAL_H, where given (`PairGlobals`).
     pub largest_nodal_h: Option<Real>,
+    /// A distributed run: this rank's part in it (the largest NODAL_H is then the ranks').
+    pub ranks: Option<&'a csm_model::Ranks>,
 }
 
 /// What one octree search saw, besides the pairs (for tests and warnings).
@@ -378,23 +380,29 @@ pub(crate) fn search_octree_report(
         .copied()
         .filter(|c| model.conditions().flags()[c.index()].is(Flag::MASTER))
         .collect();
+    // 1. hmax (before any rank can leave: the ranks take their largest together).
+    let h = model
+        .nodal_data()
+        .scalar(ScalarVar::NodalH, 0)
+        .unwrap_or(&[]);
+    let hmax = match cx.largest_nodal_h {
+        Some(h) => h,
+        None => {
+            let here = (slave_nodes.iter().chain(&master_nodes))
+                .map(|n| h.get(n.index()).copied().unwrap_or(0.0))
+                .fold(0.0, Real::max);
+            match cx.ranks {
+                Some(ranks) => ranks.max(here)?,
+                None => here,
+            }
+        }
+    };
     if slave_nodes.is_empty() || master_nodes.is_empty() {
         // Kratos builds no octree without slave nodes; the caller rejects empty sides.
         return Ok(report);
     }
 
-    // 1. hmax and the OBB enlargement.
-    let h = model
-        .nodal_data()
-        .scalar(ScalarVar::NodalH, 0)
-        .unwrap_or(&[]);
-    let hmax = cx.largest_nodal_h.unwrap_or_else(|| {
-        slave_nodes
-            .iter()
-            .chain(&master_nodes)
-            .map(|n| h.get(n.index()).copied().unwrap_or(0.0))
-            .fold(0.0, Real::max)
-    });
+    // The OBB enlargement.
     report.hmax = hmax;
     let hmax = if hmax < EPS { 1.0 } else { hmax };
     let bbf = p.octree.bounding_box_factor * hmax;

@@ -329,6 +329,7 @@ fn search_directly(
         active_before: (s.compatibility == crate::setup::Compatibility::Robust)
             .then(|| crate::pipeline::pairing::active_snapshot(model)),
         largest_nodal_h: None,
+        ranks: None,
     };
     let mut created = Vec::new();
     let report = search_octree_report(model, &cx, &mut created).unwrap();

@@ -56,10 +56,13 @@ pub(super) fn check_pairing(
         Compatibility::Robust => act::MortarMode::Robust,
     };
     if !p.simple_search {
-        let h = pair
-            .globals
-            .mean_nodal_h
-            .unwrap_or_else(|| act::mean_h(model, sub, inverted));
+        let h = match (pair.globals.mean_nodal_h, &pair.ranks) {
+            (Some(h), _) => h,
+            (None, Some(ranks)) => {
+                act::mean_h_shared(model, sub, inverted, ranks).map_err(activation_error)?
+            }
+            (None, None) => act::mean_h(model, sub, inverted),
+        };
         pair.used.mean_nodal_h = Some(h);
         model.process_info_mut().set_number("DISTANCE_THRESHOLD", h);
     }
@@ -73,6 +76,7 @@ pub(super) fn check_pairing(
         inverted,
         dim,
         tuning: run.tuning.mapping,
+        ranks: pair.ranks.clone(),
     };
     // Without a dynamic shift the coordinates are those of the step's unit normals: the
     // unit normals after the mapping are the same values, kept here rather than recomputed

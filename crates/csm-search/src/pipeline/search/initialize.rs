@@ -237,6 +237,7 @@ impl ContactSearch {
                 points: Vec::new(),
                 globals: PairGlobals::default(),
                 used: PairGlobals::default(),
+                ranks: None,
             });
         }
         // TO_ERASE is reset on every Contact condition after the clones (§4.1); csm never

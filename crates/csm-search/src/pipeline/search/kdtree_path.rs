@@ -88,14 +88,20 @@ pub(super) fn kdtree_search(
         .nodal_data()
         .scalar(ScalarVar::NodalH, 0)
         .unwrap_or(&[]);
-    let hmax = pair.globals.largest_nodal_h.unwrap_or_else(|| {
-        model
-            .part(sub)
-            .nodes()
-            .iter()
-            .map(|n| h_col[n.index()])
-            .fold(0.0, Real::max)
-    });
+    let hmax = match pair.globals.largest_nodal_h {
+        Some(h) => h,
+        None => {
+            let here = (model.part(sub).nodes().iter())
+                .map(|n| h_col[n.index()])
+                .fold(0.0, Real::max);
+            // Every held contact node's NODAL_H is whole (its elements are held): the
+            // largest of the ranks' is the whole problem's.
+            match &pair.ranks {
+                Some(ranks) => ranks.max(here)?,
+                None => here,
+            }
+        }
+    };
     pair.used.largest_nodal_h = Some(hmax);
     let hmax = if hmax < EPS { 1.0 } else { hmax };
     let bbf = p.octree.bounding_box_factor * hmax;

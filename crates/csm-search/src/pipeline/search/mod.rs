@@ -87,6 +87,8 @@ struct PairSearch {
     globals: PairGlobals,
     /// The values the last step used ([`ContactSearch::globals`]).
     used: PairGlobals,
+    /// A distributed run: this rank's part in it ([`ContactSearch::set_ranks`]).
+    ranks: Option<csm_model::Ranks>,
 }
 
 /// A kd-tree kept from one step to the next, with the condition ids it was built over (in
@@ -145,6 +147,19 @@ impl ContactSearch {
     pub fn set_globals(&mut self, globals: &BTreeMap<u32, PairGlobals>) {
         for pair in &mut self.pairs {
             pair.globals = globals.get(&pair.key).copied().unwrap_or_default();
+        }
+    }
+
+    /// Makes later steps one rank's part of a distributed run (`csm-distributed`): the model
+    /// is the rank's part of the mesh, and the whole problem's values (the largest and the
+    /// mean NODAL_H, the mapper's reference area, counts and convergence sums, its ghost slave
+    /// nodes' values) are shared with the other ranks through `ranks`, so that the pairs of
+    /// the slave conditions it owns and the results of the slave nodes it owns are those of
+    /// the one-process run. Values given by [`set_globals`](Self::set_globals) take
+    /// precedence.
+    pub fn set_ranks(&mut self, ranks: Option<csm_model::Ranks>) {
+        for pair in &mut self.pairs {
+            pair.ranks.clone_from(&ranks);
         }
     }
 

@@ -168,6 +168,7 @@ pub(super) fn update_mortar_conditions(
             domain_size,
             active_before: (compatibility == Compatibility::Robust).then(|| active_snapshot(model)),
             largest_nodal_h: pair.globals.largest_nodal_h,
+            ranks: pair.ranks.as_ref(),
         };
         let report = if inverted {
             // Robust mode: the octree searches from the other side by swapping the roles of

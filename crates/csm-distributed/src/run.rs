@@ -1,0 +1,334 @@
+//! One rank of a distributed search ([`search_rank`]): its part of the mesh searched with the
+//! values the ranks share, its owned results gathered and merged on rank 0.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::sync::Arc;
+
+use csm_model::{MeshArrays, ModelPart, Ranks, Transport};
+use csm_search::{ContactSearch, NodeResult, PairSetup, SearchResult, SearchSetup};
+
+use crate::{RankPart, Reach, split_rank};
+
+/// Why a distributed run failed: the message of the lowest rank that failed, the same on
+/// every rank (each rank returns it, none is left waiting).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RunError(pub String);
+
+impl std::fmt::Display for RunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for RunError {}
+
+/// What stopped a rank: its own error, or another rank's.
+enum Stop {
+    Failed(String),
+    Aborted,
+}
+
+impl From<csm_model::Aborted> for Stop {
+    fn from(_: csm_model::Aborted) -> Stop {
+        Stop::Aborted
+    }
+}
+
+impl From<csm_search::Error> for Stop {
+    fn from(e: csm_search::Error) -> Stop {
+        if e.is_aborted() {
+            Stop::Aborted
+        } else {
+            Stop::Failed(e.to_string())
+        }
+    }
+}
+
+/// The one pair a distributed run searches, with its slave and contact parts, or why the
+/// setup cannot run distributed yet (`docs/distributed.md`, "What runs").
+pub fn distributed_pair(setup: &SearchSetup) -> Result<(u32, &PairSetup), String> {
+    let refuse = |what: &str| Err(format!("a distributed run does not support {what} yet"));
+    if setup.pairs.len() != 1 {
+        return refuse(&format!(
+            "{} contact pairs (one `contact_model_part` key)",
+            setup.pairs.len()
+        ));
+    }
+    if setup.skin {
+        return refuse("skin detection (empty `contact_model_part` lists)");
+    }
+    if !setup.steps.is_empty() {
+        return refuse("multi-step runs (`steps`)");
+    }
+    if setup.adapt_search {
+        return refuse("`adapt_search`");
+    }
+    let (&key, pair) = setup.pairs.iter().next().expect("one pair");
+    if pair.slaves.is_empty() {
+        return refuse("roles decided automatically (give `assume_master_slave`)");
+    }
+    Ok((key, pair))
+}
+
+/// One rank of a distributed search of `mesh` with `setup`: every rank passes the same whole
+/// mesh and setup and its own `transport`. Each rank builds its part ([`split_rank`]: the
+/// recursive coordinate bisection of the slave conditions for the transport's rank count,
+/// with the halo its owned values read), searches it sharing the whole problem's values with
+/// the others ([`ContactSearch::set_ranks`]), and sends its owned slave conditions' pairs and
+/// owned slave nodes' results to rank 0, which merges them: rank 0 returns the result of the
+/// one-process search of `mesh` (`Some`), the other ranks `None`. Any rank's error stops
+/// every rank with the lowest failed rank's message.
+///
+/// The mesh's nodes must be numbered in ascending id order (the order the global sums are
+/// taken in, that of the one-process run).
+pub fn search_rank(
+    transport: Arc<dyn Transport>,
+    mesh: &MeshArrays,
+    setup: &SearchSetup,
+) -> Result<Option<SearchResult>, RunError> {
+    let anyone = Ranks::new(Arc::clone(&transport), &[], &[]);
+    let outcome = rank_search(&transport, mesh, setup).and_then(|(ranks, part, result)| {
+        let owned = owned_result(&part, &result);
+        let all = ranks.gather_bytes(&encode(&owned))?;
+        Ok((ranks, all))
+    });
+    match outcome {
+        Ok((ranks, all)) => {
+            if ranks.rank() != 0 {
+                return Ok(None);
+            }
+            let parts: Vec<SearchResult> = all.iter().map(|b| decode(b)).collect();
+            Ok(Some(merge(parts, mesh, setup)))
+        }
+        Err(Stop::Failed(message)) => Err(RunError(anyone.agree_on_failure(Some(&message)))),
+        Err(Stop::Aborted) => Err(RunError(anyone.agree_on_failure(None))),
+    }
+}
+
+/// The rank's part, its search with the ranks' shared values, and its result.
+fn rank_search(
+    transport: &Arc<dyn Transport>,
+    mesh: &MeshArrays,
+    setup: &SearchSetup,
+) -> Result<(Ranks, RankPart, SearchResult), Stop> {
+    let (_, pair) = distributed_pair(setup).map_err(Stop::Failed)?;
+    if let Some(w) = mesh.node_ids.windows(2).find(|w| w[0] >= w[1]) {
+        return Err(Stop::Failed(format!(
+            "a distributed run needs the nodes in ascending id order (the order of the global \
+             sums); node {} follows node {}",
+            w[1], w[0]
+        )));
+    }
+    let slaves: Vec<&str> = pair.slaves.iter().map(String::as_str).collect();
+    let contact: Vec<&str> = pair.parts.iter().map(String::as_str).collect();
+    let reach = Reach::for_search_factor(pair.search.search_factor);
+    let part = split_rank(
+        mesh,
+        (&slaves, &contact),
+        (transport.ranks(), transport.rank()),
+        reach,
+    )
+    .map_err(|e| Stop::Failed(e.to_string()))?;
+    let ranks = Ranks::new(
+        Arc::clone(transport),
+        &part.owned_nodes,
+        &part.owned_conditions,
+    );
+    let mut model = ModelPart::from_arrays(&setup.model_part_name, &part.mesh)
+        .map_err(|e| Stop::Failed(e.to_string()))?;
+    let mut search = ContactSearch::initialize(&mut model, setup)?;
+    search.set_ranks(Some(ranks.clone()));
+    let result = search.step(&mut model)?;
+    Ok((ranks, part, result))
+}
+
+/// The rank's result for what it owns: its owned slave conditions' pairs (and pruned
+/// entries), its owned slave nodes' results, its warnings.
+fn owned_result(part: &RankPart, result: &SearchResult) -> SearchResult {
+    let conditions: BTreeSet<u32> = part.owned_conditions.iter().copied().collect();
+    let nodes: BTreeSet<u32> = part.owned_nodes.iter().copied().collect();
+    let keep = |maps: &BTreeMap<String, BTreeMap<u32, Vec<u32>>>| {
+        maps.iter()
+            .map(|(key, map)| {
+                let owned = map
+                    .iter()
+                    .filter(|(id, _)| conditions.contains(id))
+                    .map(|(id, masters)| (*id, masters.clone()))
+                    .collect();
+                (key.clone(), owned)
+            })
+            .collect()
+    };
+    SearchResult {
+        pairs: keep(&result.pairs),
+        pruned: keep(&result.pruned),
+        nodes: (result.nodes.iter())
+            .filter(|(id, _)| nodes.contains(id))
+            .map(|(id, r)| (*id, *r))
+            .collect(),
+        warnings: result.warnings.clone(),
+        master_slave_constraints: result.master_slave_constraints,
+        ..SearchResult::default()
+    }
+}
+
+/// The ranks' owned results as one: pairs and nodes together, the warnings of every rank in
+/// rank order, each once; the counters of the whole: paired conditions (one per pair),
+/// Kratos' condition ids from the whole mesh.
+fn merge(parts: Vec<SearchResult>, mesh: &MeshArrays, setup: &SearchSetup) -> SearchResult {
+    let mut out = SearchResult::default();
+    let constraints = parts.iter().any(|p| p.master_slave_constraints.is_some());
+    for part in parts {
+        for (key, map) in part.pairs {
+            out.pairs.entry(key).or_default().extend(map);
+        }
+        for (key, map) in part.pruned {
+            out.pruned.entry(key).or_default().extend(map);
+        }
+        out.nodes.extend(part.nodes);
+        for w in part.warnings {
+            if !out.warnings.contains(&w) {
+                out.warnings.push(w);
+            }
+        }
+    }
+    out.paired_conditions = out
+        .pairs
+        .values()
+        .flat_map(|m| m.values())
+        .map(Vec::len)
+        .sum();
+    out.master_slave_constraints = constraints.then_some(out.paired_conditions);
+    if setup.process.renumbers_conditions() {
+        out.kratos_condition_ids = kratos_condition_ids(mesh, setup);
+    }
+    out
+}
+
+/// Kratos' numbering of the conditions 1..N in id order, for the contact conditions whose id
+/// it changes (the conditions of the pairs' parts).
+fn kratos_condition_ids(mesh: &MeshArrays, setup: &SearchSetup) -> BTreeMap<u32, u32> {
+    let mut all: Vec<u32> = mesh
+        .conditions
+        .values()
+        .flat_map(|a| a.ids.iter().copied())
+        .collect();
+    all.sort_unstable();
+    let contact: BTreeSet<u32> = (setup.pairs.values())
+        .flat_map(|p| &p.parts)
+        .filter_map(|name| mesh.parts.get(name))
+        .flat_map(|p| p.conditions.iter().copied())
+        .collect();
+    contact
+        .into_iter()
+        .filter_map(|id| {
+            let at = all.binary_search(&id).ok()? as u32 + 1;
+            (at != id).then_some((id, at))
+        })
+        .collect()
+}
+
+// A rank's owned result as bytes (little endian): the pair maps, the nodes, the warnings.
+
+fn put_u32(out: &mut Vec<u8>, x: u32) {
+    out.extend_from_slice(&x.to_le_bytes());
+}
+
+fn put_str(out: &mut Vec<u8>, s: &str) {
+    put_u32(out, s.len() as u32);
+    out.extend_from_slice(s.as_bytes());
+}
+
+fn put_maps(out: &mut Vec<u8>, maps: &BTreeMap<String, BTreeMap<u32, Vec<u32>>>) {
+    put_u32(out, maps.len() as u32);
+    for (key, map) in maps {
+        put_str(out, key);
+        put_u32(out, map.len() as u32);
+        for (id, masters) in map {
+            put_u32(out, *id);
+            put_u32(out, masters.len() as u32);
+            for m in masters {
+                put_u32(out, *m);
+            }
+        }
+    }
+}
+
+fn encode(r: &SearchResult) -> Vec<u8> {
+    let mut out = Vec::new();
+    put_maps(&mut out, &r.pairs);
+    put_maps(&mut out, &r.pruned);
+    put_u32(&mut out, r.nodes.len() as u32);
+    for (id, n) in &r.nodes {
+        put_u32(&mut out, *id);
+        out.push(u8::from(n.active) | (u8::from(n.normal_gap.is_some()) << 1));
+        out.extend_from_slice(&n.normal_gap.unwrap_or(0.0).to_le_bytes());
+    }
+    put_u32(&mut out, r.warnings.len() as u32);
+    for w in &r.warnings {
+        put_str(&mut out, w);
+    }
+    out.push(u8::from(r.master_slave_constraints.is_some()));
+    out
+}
+
+/// Reads what [`encode`] wrote (bytes from this program on another rank).
+struct Reader<'a>(&'a [u8]);
+
+impl Reader<'_> {
+    fn bytes(&mut self, n: usize) -> &[u8] {
+        let (head, rest) = self.0.split_at(n);
+        self.0 = rest;
+        head
+    }
+    fn u32(&mut self) -> u32 {
+        u32::from_le_bytes(self.bytes(4).try_into().expect("4 bytes"))
+    }
+    fn string(&mut self) -> String {
+        let n = self.u32() as usize;
+        String::from_utf8_lossy(self.bytes(n)).into_owned()
+    }
+    fn maps(&mut self) -> BTreeMap<String, BTreeMap<u32, Vec<u32>>> {
+        (0..self.u32())
+            .map(|_| {
+                let key = self.string();
+                let map = (0..self.u32())
+                    .map(|_| {
+                        let id = self.u32();
+                        let masters = (0..self.u32()).map(|_| self.u32()).collect();
+                        (id, masters)
+                    })
+                    .collect();
+                (key, map)
+            })
+            .collect()
+    }
+}
+
+fn decode(bytes: &[u8]) -> SearchResult {
+    let mut r = Reader(bytes);
+    let pairs = r.maps();
+    let pruned = r.maps();
+    let nodes = (0..r.u32())
+        .map(|_| {
+            let id = r.u32();
+            let flags = r.bytes(1)[0];
+            let gap = f64::from_le_bytes(r.bytes(8).try_into().expect("8 bytes"));
+            let result = NodeResult {
+                normal_gap: (flags & 2 != 0).then_some(gap),
+                active: flags & 1 != 0,
+            };
+            (id, result)
+        })
+        .collect();
+    let warnings = (0..r.u32()).map(|_| r.string()).collect();
+    let constraints = r.bytes(1)[0] != 0;
+    SearchResult {
+        pairs,
+        pruned,
+        nodes,
+        warnings,
+        master_slave_constraints: constraints.then_some(0),
+        ..SearchResult::default()
+    }
+}
