@@ -64,6 +64,21 @@ pub fn distributed_pair(setup: &SearchSetup) -> Result<(u32, &PairSetup), String
         return refuse("`adapt_search`");
     }
     let (&key, pair) = setup.pairs.iter().next().expect("one pair");
+    if pair.search.type_search == csm_search::SearchTreeType::OctreeWithObb {
+        // Its leaves, and so its candidates, depend on every condition of the mesh: a part
+        // builds other leaves (`docs/distributed.md`).
+        return refuse("`\"type_search\": \"octree_with_obb\"` (use a kd-tree search type)");
+    }
+    if pair.search.check_gap == csm_search::CheckGap::DirectCheck
+        && setup.compatibility == csm_search::Compatibility::Kratos
+    {
+        // Kratos' DirectCheck reads the ACTIVE flags its earlier candidates set, in the
+        // kd-tree's order, which a part's tree does not have; robust mode reads the flags
+        // from before the pairing (`docs/distributed.md`).
+        return refuse(
+            "`\"check_gap\": \"direct_check\"` in kratos mode (use \"compatibility\": \"robust\")",
+        );
+    }
     if pair.slaves.is_empty() {
         return refuse("roles decided automatically (give `assume_master_slave`)");
     }

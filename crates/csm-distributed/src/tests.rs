@@ -50,11 +50,17 @@ fn search(
 /// The CLI's default setup for the parts `Parts_Slave` and `Parts_Master` with the Simple or
 /// the Advanced activation, the search type `type_search` and the compatibility mode.
 fn test_setup(simple: bool, type_search: &str, compatibility: &str) -> SearchSetup {
+    setup_with(simple, type_search, compatibility, "")
+}
+
+/// [`test_setup`] with more `search_parameters` (`more`: `, "key": value` pairs).
+fn setup_with(simple: bool, type_search: &str, compatibility: &str, more: &str) -> SearchSetup {
     let text = format!(
         r#"{{"contact_model_part": {{"0": ["Parts_Slave", "Parts_Master"]}},
             "assume_master_slave": {{"0": ["Parts_Slave"]}},
             "compatibility": "{compatibility}",
-            "search_parameters": {{"simple_search": {simple}, "type_search": "{type_search}"}}}}"#
+            "search_parameters": {{"simple_search": {simple},
+                                   "type_search": "{type_search}"{more}}}}}"#
     );
     parse_setup(&text, "<test setup>").expect("the setup parses")
 }
@@ -66,10 +72,18 @@ fn on_threads(
     mesh: &MeshArrays,
     setup: &SearchSetup,
 ) -> Result<SearchResult, RunError> {
+    let inputs = vec![(mesh, setup); ranks];
+    on_threads_each(&inputs)
+}
+
+/// [`on_threads`] where each rank has its own mesh and setup (`inputs[rank]`).
+fn on_threads_each(inputs: &[(&MeshArrays, &SearchSetup)]) -> Result<SearchResult, RunError> {
+    let ranks = inputs.len();
     let outcomes: Vec<Result<Option<SearchResult>, RunError>> = std::thread::scope(|scope| {
         let handles: Vec<_> = thread_ranks(ranks)
             .into_iter()
-            .map(|transport| {
+            .zip(inputs)
+            .map(|(transport, &(mesh, setup))| {
                 scope.spawn(move || {
                     let pool = rayon::ThreadPoolBuilder::new()
                         .num_threads(1)
@@ -111,19 +125,36 @@ fn on_threads(
 fn a_distributed_search_gives_the_one_process_result() {
     for name in SCENES {
         let mesh = scene(name);
-        for (simple, type_search, mode) in [
-            (true, "in_radius_with_obb", "kratos"),
-            (false, "in_radius_with_obb", "kratos"),
-            (false, "in_radius", "kratos"),
-            (false, "in_radius_with_obb", "robust"),
+        for (simple, type_search, mode, more) in [
+            (true, "in_radius_with_obb", "kratos", ""),
+            (false, "in_radius_with_obb", "kratos", ""),
+            (false, "in_radius", "kratos", ""),
+            (false, "in_box", "kratos", ""),
+            (false, "in_box_with_obb", "kratos", ""),
+            (false, "in_radius_with_obb", "robust", ""),
+            (true, "kdop_18", "robust", ""),
+            (
+                false,
+                "in_radius_with_obb",
+                "robust",
+                r#", "check_gap": "direct_check""#,
+            ),
+            (true, "in_box", "kratos", r#", "check_gap": "no_check""#),
+            (true, "in_radius", "robust", r#", "check_gap": "no_check""#),
         ] {
-            let setup = test_setup(simple, type_search, mode);
+            let setup = setup_with(simple, type_search, mode, more);
             let mut model = ModelPart::from_arrays("Structure", &mesh).expect("a model");
             let mut whole = ContactSearch::initialize(&mut model, &setup).expect("initialize");
             let serial = whole.step(&mut model).expect("search");
             for ranks in 1..=4 {
                 let got = on_threads(ranks, &mesh, &setup).expect("the distributed search");
-                let what = format!("{name}, simple {simple}, {type_search}, {mode}, {ranks} ranks");
+                let what =
+                    format!("{name}, simple {simple}, {type_search}{more}, {mode}, {ranks} ranks");
+                let differ: Vec<_> = (got.pairs["0"].iter())
+                    .filter(|(id, m)| serial.pairs["0"].get(id) != Some(m))
+                    .map(|(id, m)| (id, m, serial.pairs["0"].get(id)))
+                    .collect();
+                assert!(differ.is_empty(), "{what}: pairs (got, serial) {differ:?}");
                 assert_eq!(got.pairs, serial.pairs, "{what}: pairs");
                 assert_eq!(got.pruned, serial.pruned, "{what}: pruned");
                 let bits = |r: &SearchResult| -> Vec<(u32, Option<u64>, bool)> {
@@ -247,4 +278,69 @@ fn every_rank_finds_the_pairs_of_the_whole_search() {
             }
         }
     }
+}
+
+/// A rank that fails stops every rank with the same message, that of the lowest failed rank,
+/// whether it fails before the others start to share values (a part name its setup does not
+/// find) or while they wait for it (a NaN coordinate on a slave node it owns): no rank hangs.
+#[test]
+fn one_rank_failing_stops_every_rank_with_its_message() {
+    let mesh = scene("stacked_blocks.mdpa");
+    let setup = test_setup(false, "in_radius_with_obb", "kratos");
+    let text = r#"{"contact_model_part": {"0": ["Parts_Nope", "Parts_Master"]},
+                  "assume_master_slave": {"0": ["Parts_Nope"]}}"#;
+    let bad_setup = parse_setup(text, "<bad setup>").expect("parses");
+    let err = on_threads_each(&[(&mesh, &setup), (&mesh, &bad_setup), (&mesh, &setup)])
+        .expect_err("rank 1 fails");
+    assert_eq!(
+        err.0,
+        "rank 1 of 3: split: no part `Parts_Nope` in the mesh"
+    );
+    // A slave node of rank 2's part, NaN on rank 2 alone: the others are in the search.
+    let parts = split(
+        &mesh,
+        (&["Parts_Slave"], &["Parts_Slave", "Parts_Master"]),
+        3,
+        Reach::for_search_factor(3.5),
+    )
+    .unwrap();
+    let node = parts[2].owned_nodes[0];
+    let mut broken = mesh.clone();
+    let at = broken.node_ids.iter().position(|&n| n == node).unwrap();
+    broken.points[at][2] = f64::NAN;
+    let err = on_threads_each(&[(&mesh, &setup), (&mesh, &setup), (&broken, &setup)])
+        .expect_err("rank 2 fails");
+    assert!(err.0.starts_with("rank 2 of 3: "), "{err}");
+    // Both fail: the lower rank's message.
+    let err = on_threads_each(&[(&mesh, &setup), (&broken, &setup), (&mesh, &bad_setup)])
+        .expect_err("ranks 1 and 2 fail");
+    assert!(err.0.starts_with("rank 1 of 3: "), "{err}");
+}
+
+/// What a distributed run cannot do yet is refused, with what to use instead.
+#[test]
+fn unsupported_setups_are_refused_with_a_reason() {
+    let mesh = scene("stacked_blocks.mdpa");
+    let octree = test_setup(false, "octree_with_obb", "kratos");
+    let err = on_threads(2, &mesh, &octree).expect_err("refused");
+    assert_eq!(
+        err.0,
+        "rank 0 of 2: a distributed run does not support `\"type_search\": \"octree_with_obb\"` \
+         (use a kd-tree search type) yet"
+    );
+    let direct = setup_with(
+        false,
+        "in_radius",
+        "kratos",
+        r#", "check_gap": "direct_check""#,
+    );
+    let err = on_threads(2, &mesh, &direct).expect_err("refused");
+    assert!(err.0.contains("\"compatibility\": \"robust\""), "{err}");
+    let automatic = parse_setup(
+        r#"{"contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]}}"#,
+        "<setup>",
+    )
+    .unwrap();
+    let err = on_threads(2, &mesh, &automatic).expect_err("refused");
+    assert!(err.0.contains("assume_master_slave"), "{err}");
 }
