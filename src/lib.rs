@@ -25,6 +25,8 @@
 
 #[cfg(feature = "activation")]
 pub use csm_activation as activation;
+#[cfg(feature = "distributed")]
+pub use csm_distributed as distributed;
 #[cfg(feature = "eval")]
 pub use csm_eval as eval;
 #[cfg(feature = "geometry")]

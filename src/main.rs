@@ -193,6 +193,11 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
             quiet,
         } => {
             start_threads(threads)?;
+            #[cfg(feature = "mpi")]
+            if csm::distributed::MpiTransport::launched() {
+                let files = (mesh.as_path(), setup.as_deref(), output.as_deref());
+                return search_on_ranks(files, vtk.is_some() || profile.is_some(), quiet);
+            }
             let start = Instant::now();
             let phase = |name: &str| {
                 if let Some(r) = &recorder {
@@ -452,6 +457,67 @@ fn vtu_format(ascii: bool) -> csm::io::VtuFormat {
 }
 
 /// Sizes rayon's global pool (`--threads`); all cores when `None`.
+/// `csm search` started by `mpirun`: every rank reads the mesh and the setup, searches its
+/// part (`csm::distributed::search_rank_timed`), and rank 0 writes RESULT.json and the
+/// summary. Any rank's error stops every rank with the lowest failed rank's message.
+#[cfg(feature = "mpi")]
+fn search_on_ranks(
+    (mesh, setup, output): (&Path, Option<&Path>, Option<&Path>),
+    files_asked: bool,
+    quiet: bool,
+) -> Result<(), String> {
+    use std::sync::Arc;
+    let transport: Arc<dyn csm::model::Transport> =
+        Arc::new(csm::distributed::MpiTransport::start()?);
+    let start = Instant::now();
+    let input = if files_asked {
+        Err("--vtk and --profile: a distributed run does not write them yet".to_owned())
+    } else {
+        csm::io::read_mesh(mesh)
+            .map_err(|e| e.to_string())
+            .and_then(|model| Ok((model.to_arrays(), csm::cli::setup_for(setup, &model)?)))
+    };
+    let read = start.elapsed().as_secs_f64();
+    let outcome = match &input {
+        Ok((arrays, setup)) => {
+            csm::distributed::search_rank_timed(Arc::clone(&transport), arrays, setup)
+        }
+        Err(message) => Err(csm::distributed::fail_rank(Arc::clone(&transport), message)),
+    };
+    // The last handle: MPI is finalised here, before the process ends.
+    drop(transport);
+    let (result, times) = outcome.map_err(|e| e.to_string())?;
+    let Some(result) = result else {
+        return Ok(());
+    };
+    let timings = csm::cli::Timings {
+        read,
+        initialize: times.initialize,
+        search: times.search,
+        total: start.elapsed().as_secs_f64(),
+    };
+    match output {
+        Some(path) => write_result(path, &result, &timings)?,
+        None => out(&result_json(&result, &timings)?)?,
+    }
+    if !quiet {
+        eprintln!(
+            "{} slave conditions, {} pairs, {} paired conditions; read {:.3} s, initialize \
+             {:.3} s, search {:.3} s (rank 0)",
+            result.pairs.values().map(|m| m.len()).sum::<usize>(),
+            result.n_pairs(),
+            result.paired_conditions,
+            timings.read,
+            timings.initialize,
+            timings.search
+        );
+        for w in &result.warnings {
+            eprintln!("warning: {w}");
+        }
+    }
+    Ok(())
+}
+
 fn start_threads(threads: Option<usize>) -> Result<(), String> {
     if let Some(n) = threads {
         rayon::ThreadPoolBuilder::new()

@@ -18,10 +18,14 @@
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
+#[cfg(feature = "mpi")]
+mod mpi;
 mod run;
 mod threads;
 
-pub use run::{RunError, distributed_pair, search_rank};
+#[cfg(feature = "mpi")]
+pub use mpi::MpiTransport;
+pub use run::{RankTimes, RunError, distributed_pair, fail_rank, search_rank, search_rank_timed};
 pub use threads::{ThreadTransport, thread_ranks};
 
 use csm_geometry::GeometryKind;

@@ -3,6 +3,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
+use std::time::Instant;
 
 use csm_model::{MeshArrays, ModelPart, Ranks, Transport};
 use csm_search::{ContactSearch, NodeResult, PairSetup, SearchResult, SearchSetup};
@@ -101,23 +102,52 @@ pub fn search_rank(
     mesh: &MeshArrays,
     setup: &SearchSetup,
 ) -> Result<Option<SearchResult>, RunError> {
+    search_rank_timed(transport, mesh, setup).map(|(result, _)| result)
+}
+
+/// This rank's wall times of a distributed search, in seconds.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RankTimes {
+    /// Its part of the mesh and the search's initialisation on it.
+    pub initialize: f64,
+    /// The search step and the gathering of the results.
+    pub search: f64,
+}
+
+/// [`search_rank`] with this rank's times.
+pub fn search_rank_timed(
+    transport: Arc<dyn Transport>,
+    mesh: &MeshArrays,
+    setup: &SearchSetup,
+) -> Result<(Option<SearchResult>, RankTimes), RunError> {
     let anyone = Ranks::new(Arc::clone(&transport), &[], &[]);
-    let outcome = rank_search(&transport, mesh, setup).and_then(|(ranks, part, result)| {
-        let owned = owned_result(&part, &result);
-        let all = ranks.gather_bytes(&encode(&owned))?;
-        Ok((ranks, all))
-    });
+    let mut times = RankTimes::default();
+    let outcome =
+        rank_search(&transport, mesh, setup, &mut times).and_then(|(ranks, part, result)| {
+            let start = Instant::now();
+            let owned = owned_result(&part, &result);
+            let all = ranks.gather_bytes(&encode(&owned))?;
+            times.search += start.elapsed().as_secs_f64();
+            Ok((ranks, all))
+        });
     match outcome {
         Ok((ranks, all)) => {
             if ranks.rank() != 0 {
-                return Ok(None);
+                return Ok((None, times));
             }
             let parts: Vec<SearchResult> = all.iter().map(|b| decode(b)).collect();
-            Ok(Some(merge(parts, mesh, setup)))
+            Ok((Some(merge(parts, mesh, setup)), times))
         }
         Err(Stop::Failed(message)) => Err(RunError(anyone.agree_on_failure(Some(&message)))),
         Err(Stop::Aborted) => Err(RunError(anyone.agree_on_failure(None))),
     }
+}
+
+/// A rank that failed before it could start its part of a distributed search (it could not
+/// read its input): stops every rank with the lowest failed rank's message, which it
+/// returns, as [`search_rank`] does on the others.
+pub fn fail_rank(transport: Arc<dyn Transport>, message: &str) -> RunError {
+    RunError(Ranks::new(transport, &[], &[]).agree_on_failure(Some(message)))
 }
 
 /// The rank's part, its search with the ranks' shared values, and its result.
@@ -125,8 +155,10 @@ fn rank_search(
     transport: &Arc<dyn Transport>,
     mesh: &MeshArrays,
     setup: &SearchSetup,
+    times: &mut RankTimes,
 ) -> Result<(Ranks, RankPart, SearchResult), Stop> {
-    let (_, pair) = distributed_pair(setup).map_err(Stop::Failed)?;
+    let start = Instant::now();
+    let (key, pair) = distributed_pair(setup).map_err(Stop::Failed)?;
     if let Some(w) = mesh.node_ids.windows(2).find(|w| w[0] >= w[1]) {
         return Err(Stop::Failed(format!(
             "a distributed run needs the nodes in ascending id order (the order of the global \
@@ -137,13 +169,32 @@ fn rank_search(
     let slaves: Vec<&str> = pair.slaves.iter().map(String::as_str).collect();
     let contact: Vec<&str> = pair.parts.iter().map(String::as_str).collect();
     let reach = Reach::for_search_factor(pair.search.search_factor);
+    // With fewer slave conditions than ranks, the ranks past them search a copy of another
+    // rank's part and own nothing: every rank takes part in every exchange.
+    let (ranks, rank) = (transport.ranks(), transport.rank());
+    let with_slaves = slave_condition_count(mesh, &slaves).clamp(1, ranks);
     let part = split_rank(
         mesh,
         (&slaves, &contact),
-        (transport.ranks(), transport.rank()),
+        (with_slaves, rank % with_slaves),
         reach,
     )
-    .map_err(|e| Stop::Failed(e.to_string()))?;
+    .map(|mut part| {
+        if rank >= with_slaves {
+            part.owned_conditions.clear();
+            part.owned_nodes.clear();
+        }
+        part
+    })
+    .map_err(|e| match e {
+        crate::SplitError::NoSlaves => Stop::Failed(
+            "a distributed run does not support slave parts without conditions yet (Kratos \
+             generates their interface conditions from the elements: give the contact \
+             conditions in the mesh)"
+                .to_owned(),
+        ),
+        e => Stop::Failed(e.to_string()),
+    })?;
     let ranks = Ranks::new(
         Arc::clone(transport),
         &part.owned_nodes,
@@ -153,8 +204,25 @@ fn rank_search(
         .map_err(|e| Stop::Failed(e.to_string()))?;
     let mut search = ContactSearch::initialize(&mut model, setup)?;
     search.set_ranks(Some(ranks.clone()));
-    let result = search.step(&mut model)?;
+    times.initialize = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    let mut result = search.step(&mut model)?;
+    times.search = start.elapsed().as_secs_f64();
+    // The paired conditions of the owned slaves (a result counts every one).
+    let ids = model.conditions().ids();
+    result.paired_conditions = (search.paired_conditions(key).iter())
+        .filter(|pc| ranks.owns_condition(ids[pc.slave.index()]))
+        .count();
     Ok((ranks, part, result))
+}
+
+/// The number of conditions of the parts `slaves` (each once).
+fn slave_condition_count(mesh: &MeshArrays, slaves: &[&str]) -> usize {
+    let ids: BTreeSet<u32> = (slaves.iter())
+        .filter_map(|name| mesh.parts.get(*name))
+        .flat_map(|p| p.conditions.iter().copied())
+        .collect();
+    ids.len()
 }
 
 /// The rank's result for what it owns: its owned slave conditions' pairs (and pruned
@@ -182,14 +250,15 @@ fn owned_result(part: &RankPart, result: &SearchResult) -> SearchResult {
             .map(|(id, r)| (*id, *r))
             .collect(),
         warnings: result.warnings.clone(),
+        paired_conditions: result.paired_conditions,
         master_slave_constraints: result.master_slave_constraints,
         ..SearchResult::default()
     }
 }
 
 /// The ranks' owned results as one: pairs and nodes together, the warnings of every rank in
-/// rank order, each once; the counters of the whole: paired conditions (one per pair),
-/// Kratos' condition ids from the whole mesh.
+/// rank order, each once; the counters of the whole: the ranks' paired conditions of their
+/// owned slaves, Kratos' condition ids from the whole mesh.
 fn merge(parts: Vec<SearchResult>, mesh: &MeshArrays, setup: &SearchSetup) -> SearchResult {
     let mut out = SearchResult::default();
     let constraints = parts.iter().any(|p| p.master_slave_constraints.is_some());
@@ -201,18 +270,13 @@ fn merge(parts: Vec<SearchResult>, mesh: &MeshArrays, setup: &SearchSetup) -> Se
             out.pruned.entry(key).or_default().extend(map);
         }
         out.nodes.extend(part.nodes);
+        out.paired_conditions += part.paired_conditions;
         for w in part.warnings {
             if !out.warnings.contains(&w) {
                 out.warnings.push(w);
             }
         }
     }
-    out.paired_conditions = out
-        .pairs
-        .values()
-        .flat_map(|m| m.values())
-        .map(Vec::len)
-        .sum();
     out.master_slave_constraints = constraints.then_some(out.paired_conditions);
     if setup.process.renumbers_conditions() {
         out.kratos_condition_ids = kratos_condition_ids(mesh, setup);
@@ -284,6 +348,7 @@ fn encode(r: &SearchResult) -> Vec<u8> {
         put_str(&mut out, w);
     }
     out.push(u8::from(r.master_slave_constraints.is_some()));
+    out.extend_from_slice(&(r.paired_conditions as u64).to_le_bytes());
     out
 }
 
@@ -338,7 +403,9 @@ fn decode(bytes: &[u8]) -> SearchResult {
         .collect();
     let warnings = (0..r.u32()).map(|_| r.string()).collect();
     let constraints = r.bytes(1)[0] != 0;
+    let paired = u64::from_le_bytes(r.bytes(8).try_into().expect("8 bytes"));
     SearchResult {
+        paired_conditions: paired as usize,
         pairs,
         pruned,
         nodes,

@@ -16,7 +16,7 @@ use std::fmt;
 use std::sync::Arc;
 
 /// How the ranks exchange bytes: one collective call, made by every rank the same number of
-/// times in the same order.
+/// times in the same order. A transport that can no longer exchange returns empty messages.
 pub trait Transport: Send + Sync + fmt::Debug {
     /// This rank, from 0.
     fn rank(&self) -> usize;
@@ -181,6 +181,14 @@ impl Ranks {
         payload.extend_from_slice(message.unwrap_or_default().as_bytes());
         loop {
             let all = self.transport.all_gather(&payload);
+            // Every message has its kind: an empty one is a transport that can no longer
+            // exchange anything.
+            if all.iter().any(Vec::is_empty) {
+                return format!(
+                    "rank {}: the ranks can no longer exchange data",
+                    self.rank()
+                );
+            }
             if all
                 .iter()
                 .all(|b| b.first() == Some(&(Round::Failed as u8)))
