@@ -9,6 +9,11 @@
 //!   fetches maturin, numpy, pytest and meshio), then the pytest suite `python/tests`, which
 //!   compares with the `csm` binary of `target/debug` (built first) and the Kratos fixtures.
 //!   `cargo xtask ci` runs it after the Rust tests.
+//! - `cargo xtask mpi`: the search on MPI ranks (`tests/mpi`, feature `mpi`: `mpirun` on 1 to
+//!   4 ranks against one process). Open MPI comes from the system: where `mpirun`, `mpicc` or
+//!   libclang are missing, it installs Debian's `openmpi-bin`, `libopenmpi-dev` and
+//!   `libclang-dev` with apt as root, or stops saying what to install. `cargo xtask ci` runs
+//!   it (and lints and documents the `mpi` code) after the Python tests.
 //! - `cargo xtask features`: the feature matrix alone: `cargo clippy -D warnings` of the
 //!   facade with no feature and with each feature alone, of `csm-io` likewise, and `csm-io`'s
 //!   unit tests without its default features (a user of one layer or one format compiles
@@ -59,6 +64,8 @@ enum Task {
     Snapshots,
     /// The feature matrix alone.
     Features,
+    /// The search on MPI ranks (installs Open MPI with apt where it can).
+    Mpi,
     /// `pip install .[test]` into target/py-venv, then the pytest suite.
     Python,
     /// Regenerate the Kratos reference fixtures (needs Kratos 10.4.4 from PyPI).
@@ -76,6 +83,7 @@ fn main() -> Result<()> {
         Task::Ci => ci(),
         Task::Snapshots => snapshots(),
         Task::Features => features(),
+        Task::Mpi => mpi(),
         Task::Python => python(),
         Task::Fixtures => fixtures(),
         Task::Bench(options) => bench::bench(&options),
@@ -128,6 +136,7 @@ fn ci() -> Result<()> {
     cargo(&["test", "--workspace", "--all-targets"], &TEST_ENV)?;
     python()?;
     features()?;
+    mpi()?;
     eprintln!("xtask ci: all checks passed");
     Ok(())
 }
@@ -209,6 +218,100 @@ fn run(program: &str, args: &[&str], envs: &[(&str, &str)]) -> Result<()> {
         .with_context(|| format!("cannot run {program}"))?;
     if !status.success() {
         bail!("{program} {} failed ({status})", args.join(" "));
+    }
+    Ok(())
+}
+
+/// Debian's packages for the `mpi` feature: Open MPI, its headers, and libclang for rsmpi's
+/// bindings.
+const MPI_PACKAGES: [&str; 3] = ["openmpi-bin", "libopenmpi-dev", "libclang-dev"];
+
+/// The search on MPI ranks (see the module docs): Open MPI made present, the `mpi` code
+/// linted and documented, then `tests/mpi`.
+fn mpi() -> Result<()> {
+    ensure_open_mpi()?;
+    let features = ["--features", "mpi"];
+    let mut clippy = vec!["clippy", "--workspace", "--all-targets"];
+    clippy.extend(features);
+    clippy.extend(["--", "-D", "warnings"]);
+    cargo(&clippy, &[])?;
+    let mut doc = vec!["doc", "--workspace", "--no-deps"];
+    doc.extend(features);
+    cargo(&doc, &[("RUSTDOCFLAGS", "-D warnings")])?;
+    let mut test = vec!["test", "--test", "mpi"];
+    test.extend(features);
+    cargo(&test, &TEST_ENV)
+}
+
+/// Whether `program` runs (`--version`).
+fn runs(program: &str) -> bool {
+    Command::new(program)
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// Whether a libclang shared library is where rsmpi's bindings generator looks.
+fn has_libclang() -> bool {
+    let dirs = [
+        "/usr/lib",
+        "/usr/lib/x86_64-linux-gnu",
+        "/usr/lib/aarch64-linux-gnu",
+        "/usr/local/lib",
+    ];
+    let llvm: Vec<std::path::PathBuf> = std::fs::read_dir("/usr/lib")
+        .into_iter()
+        .flatten()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("llvm"))
+        })
+        .map(|p| p.join("lib"))
+        .collect();
+    let libclang = |dir: &std::path::Path| {
+        std::fs::read_dir(dir)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .any(|e| {
+                e.file_name().to_string_lossy().starts_with("libclang")
+                    && e.file_name().to_string_lossy().contains(".so")
+            })
+    };
+    std::env::var_os("LIBCLANG_PATH").is_some()
+        || dirs.iter().map(std::path::Path::new).any(libclang)
+        || llvm.iter().any(|d| libclang(d))
+}
+
+/// `mpirun`, `mpicc` and libclang present, installed with apt as root where they are not, or
+/// an error that says what to install.
+fn ensure_open_mpi() -> Result<()> {
+    if runs("mpirun") && runs("mpicc") && has_libclang() {
+        return Ok(());
+    }
+    let root = Command::new("id")
+        .arg("-u")
+        .output()
+        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0");
+    if !(root && runs("apt-get")) {
+        bail!(
+            "the MPI tests need Open MPI and libclang: install them (Debian: `sudo apt-get \
+             install {}`; elsewhere your Open MPI and libclang packages) and run again",
+            MPI_PACKAGES.join(" ")
+        );
+    }
+    let apt = [("DEBIAN_FRONTEND", "noninteractive")];
+    run("apt-get", &["update", "-qq"], &apt)?;
+    let mut install = vec!["install", "-y", "-qq", "--no-install-recommends"];
+    install.extend(MPI_PACKAGES);
+    run("apt-get", &install, &apt)?;
+    if !(runs("mpirun") && runs("mpicc") && has_libclang()) {
+        bail!(
+            "apt-get installed {} but mpirun, mpicc or libclang is still missing",
+            MPI_PACKAGES.join(" ")
+        );
     }
     Ok(())
 }
