@@ -18,13 +18,16 @@
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
+mod codec;
 #[cfg(feature = "mpi")]
 mod mpi;
+mod partitioned;
 mod run;
 mod threads;
 
 #[cfg(feature = "mpi")]
 pub use mpi::MpiTransport;
+pub use partitioned::search_partitioned;
 pub use run::{RankTimes, RunError, distributed_pair, fail_rank, search_rank, search_rank_timed};
 pub use threads::{ThreadTransport, thread_ranks};
 

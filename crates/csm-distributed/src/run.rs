@@ -6,8 +6,9 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use csm_model::{MeshArrays, ModelPart, Ranks, Transport};
-use csm_search::{ContactSearch, NodeResult, PairSetup, SearchResult, SearchSetup};
+use csm_search::{ContactSearch, PairSetup, SearchResult, SearchSetup};
 
+use crate::codec::{decode_result, encode_result};
 use crate::{RankPart, Reach, split_rank};
 
 /// Why a distributed run failed: the message of the lowest rank that failed, the same on
@@ -24,7 +25,7 @@ impl std::fmt::Display for RunError {
 impl std::error::Error for RunError {}
 
 /// What stopped a rank: its own error, or another rank's.
-enum Stop {
+pub(crate) enum Stop {
     Failed(String),
     Aborted,
 }
@@ -120,26 +121,39 @@ pub fn search_rank_timed(
     mesh: &MeshArrays,
     setup: &SearchSetup,
 ) -> Result<(Option<SearchResult>, RankTimes), RunError> {
-    let anyone = Ranks::new(Arc::clone(&transport), &[], &[]);
     let mut times = RankTimes::default();
-    let outcome =
-        rank_search(&transport, mesh, setup, &mut times).and_then(|(ranks, part, result)| {
-            let start = Instant::now();
-            let owned = owned_result(&part, &result);
-            let all = ranks.gather_bytes(&encode(&owned))?;
-            times.search += start.elapsed().as_secs_f64();
-            Ok((ranks, all))
-        });
-    match outcome {
-        Ok((ranks, all)) => {
-            if ranks.rank() != 0 {
-                return Ok((None, times));
-            }
-            let parts: Vec<SearchResult> = all.iter().map(|b| decode(b)).collect();
-            Ok((Some(merge(parts, mesh, setup)), times))
-        }
-        Err(Stop::Failed(message)) => Err(RunError(anyone.agree_on_failure(Some(&message)))),
-        Err(Stop::Aborted) => Err(RunError(anyone.agree_on_failure(None))),
+    let (rank, all) = gathered_results(&transport, mesh, setup, &mut times)?;
+    if rank != 0 {
+        return Ok((None, times));
+    }
+    let parts: Vec<SearchResult> = all.iter().map(|b| decode_result(b)).collect();
+    Ok((Some(merge(parts, mesh, setup)), times))
+}
+
+/// Every rank's owned result (as bytes, in rank order) on every rank, with this rank, or the
+/// error every rank stops with.
+pub(crate) fn gathered_results(
+    transport: &Arc<dyn Transport>,
+    mesh: &MeshArrays,
+    setup: &SearchSetup,
+    times: &mut RankTimes,
+) -> Result<(usize, Vec<Vec<u8>>), RunError> {
+    let outcome = rank_search(transport, mesh, setup, times).and_then(|(ranks, part, result)| {
+        let start = Instant::now();
+        let owned = owned_result(&part, &result);
+        let all = ranks.gather_bytes(&encode_result(&owned))?;
+        times.search += start.elapsed().as_secs_f64();
+        Ok((ranks.rank(), all))
+    });
+    outcome.map_err(|stop| stopped(transport, stop))
+}
+
+/// The error every rank leaves with after `stop` on this one.
+pub(crate) fn stopped(transport: &Arc<dyn Transport>, stop: Stop) -> RunError {
+    let anyone = Ranks::new(Arc::clone(transport), &[], &[]);
+    match stop {
+        Stop::Failed(message) => RunError(anyone.agree_on_failure(Some(&message))),
+        Stop::Aborted => RunError(anyone.agree_on_failure(None)),
     }
 }
 
@@ -259,7 +273,11 @@ fn owned_result(part: &RankPart, result: &SearchResult) -> SearchResult {
 /// The ranks' owned results as one: pairs and nodes together, the warnings of every rank in
 /// rank order, each once; the counters of the whole: the ranks' paired conditions of their
 /// owned slaves, Kratos' condition ids from the whole mesh.
-fn merge(parts: Vec<SearchResult>, mesh: &MeshArrays, setup: &SearchSetup) -> SearchResult {
+pub(crate) fn merge(
+    parts: Vec<SearchResult>,
+    mesh: &MeshArrays,
+    setup: &SearchSetup,
+) -> SearchResult {
     let mut out = SearchResult::default();
     let constraints = parts.iter().any(|p| p.master_slave_constraints.is_some());
     for part in parts {
@@ -305,112 +323,4 @@ fn kratos_condition_ids(mesh: &MeshArrays, setup: &SearchSetup) -> BTreeMap<u32,
             (at != id).then_some((id, at))
         })
         .collect()
-}
-
-// A rank's owned result as bytes (little endian): the pair maps, the nodes, the warnings.
-
-fn put_u32(out: &mut Vec<u8>, x: u32) {
-    out.extend_from_slice(&x.to_le_bytes());
-}
-
-fn put_str(out: &mut Vec<u8>, s: &str) {
-    put_u32(out, s.len() as u32);
-    out.extend_from_slice(s.as_bytes());
-}
-
-fn put_maps(out: &mut Vec<u8>, maps: &BTreeMap<String, BTreeMap<u32, Vec<u32>>>) {
-    put_u32(out, maps.len() as u32);
-    for (key, map) in maps {
-        put_str(out, key);
-        put_u32(out, map.len() as u32);
-        for (id, masters) in map {
-            put_u32(out, *id);
-            put_u32(out, masters.len() as u32);
-            for m in masters {
-                put_u32(out, *m);
-            }
-        }
-    }
-}
-
-fn encode(r: &SearchResult) -> Vec<u8> {
-    let mut out = Vec::new();
-    put_maps(&mut out, &r.pairs);
-    put_maps(&mut out, &r.pruned);
-    put_u32(&mut out, r.nodes.len() as u32);
-    for (id, n) in &r.nodes {
-        put_u32(&mut out, *id);
-        out.push(u8::from(n.active) | (u8::from(n.normal_gap.is_some()) << 1));
-        out.extend_from_slice(&n.normal_gap.unwrap_or(0.0).to_le_bytes());
-    }
-    put_u32(&mut out, r.warnings.len() as u32);
-    for w in &r.warnings {
-        put_str(&mut out, w);
-    }
-    out.push(u8::from(r.master_slave_constraints.is_some()));
-    out.extend_from_slice(&(r.paired_conditions as u64).to_le_bytes());
-    out
-}
-
-/// Reads what [`encode`] wrote (bytes from this program on another rank).
-struct Reader<'a>(&'a [u8]);
-
-impl Reader<'_> {
-    fn bytes(&mut self, n: usize) -> &[u8] {
-        let (head, rest) = self.0.split_at(n);
-        self.0 = rest;
-        head
-    }
-    fn u32(&mut self) -> u32 {
-        u32::from_le_bytes(self.bytes(4).try_into().expect("4 bytes"))
-    }
-    fn string(&mut self) -> String {
-        let n = self.u32() as usize;
-        String::from_utf8_lossy(self.bytes(n)).into_owned()
-    }
-    fn maps(&mut self) -> BTreeMap<String, BTreeMap<u32, Vec<u32>>> {
-        (0..self.u32())
-            .map(|_| {
-                let key = self.string();
-                let map = (0..self.u32())
-                    .map(|_| {
-                        let id = self.u32();
-                        let masters = (0..self.u32()).map(|_| self.u32()).collect();
-                        (id, masters)
-                    })
-                    .collect();
-                (key, map)
-            })
-            .collect()
-    }
-}
-
-fn decode(bytes: &[u8]) -> SearchResult {
-    let mut r = Reader(bytes);
-    let pairs = r.maps();
-    let pruned = r.maps();
-    let nodes = (0..r.u32())
-        .map(|_| {
-            let id = r.u32();
-            let flags = r.bytes(1)[0];
-            let gap = f64::from_le_bytes(r.bytes(8).try_into().expect("8 bytes"));
-            let result = NodeResult {
-                normal_gap: (flags & 2 != 0).then_some(gap),
-                active: flags & 1 != 0,
-            };
-            (id, result)
-        })
-        .collect();
-    let warnings = (0..r.u32()).map(|_| r.string()).collect();
-    let constraints = r.bytes(1)[0] != 0;
-    let paired = u64::from_le_bytes(r.bytes(8).try_into().expect("8 bytes"));
-    SearchResult {
-        paired_conditions: paired as usize,
-        pairs,
-        pruned,
-        nodes,
-        warnings,
-        master_slave_constraints: constraints.then_some(0),
-        ..SearchResult::default()
-    }
 }

@@ -344,3 +344,157 @@ fn unsupported_setups_are_refused_with_a_reason() {
     let err = on_threads(2, &mesh, &automatic).expect_err("refused");
     assert!(err.0.contains("assume_master_slave"), "{err}");
 }
+
+/// Piece `rank` of `ranks` of a mesh as a host code might hold it: the elements and the
+/// conditions whose id is `rank` modulo `ranks` (scattered, the hardest case for the
+/// exchange), every node they use, the parts restricted to these.
+fn piece(mesh: &MeshArrays, (ranks, rank): (u32, u32)) -> MeshArrays {
+    let mine = |id: u32| id % ranks == rank;
+    let elements = filter_entities(&mesh.elements, |id, _| mine(id));
+    let conditions = filter_entities(&mesh.conditions, |id, _| mine(id));
+    let used: BTreeSet<u32> = (elements.values().chain(conditions.values()))
+        .flat_map(|a| a.connectivity.iter().copied())
+        .collect();
+    let (node_ids, points) = (mesh.node_ids.iter().zip(&mesh.points))
+        .filter(|(id, _)| used.contains(id))
+        .map(|(id, p)| (*id, *p))
+        .unzip();
+    let ids = |by_kind: &BTreeMap<GeometryKind, EntityArrays>| -> BTreeSet<u32> {
+        by_kind
+            .values()
+            .flat_map(|a| a.ids.iter().copied())
+            .collect()
+    };
+    let (element_ids, condition_ids) = (ids(&elements), ids(&conditions));
+    let parts = (mesh.parts.iter())
+        .map(|(name, p)| {
+            let keep = |list: &[u32], set: &BTreeSet<u32>| -> Vec<u32> {
+                list.iter().copied().filter(|x| set.contains(x)).collect()
+            };
+            let part = PartArrays {
+                nodes: keep(&p.nodes, &used),
+                elements: keep(&p.elements, &element_ids),
+                conditions: keep(&p.conditions, &condition_ids),
+            };
+            (name.clone(), part)
+        })
+        .collect();
+    MeshArrays {
+        node_ids,
+        points,
+        elements,
+        conditions,
+        parts,
+        domain_size: mesh.domain_size,
+    }
+}
+
+/// A host code's mesh already split across 1 to 4 ranks (threads), each rank passing its
+/// piece: each gets the pairs of its conditions and the results of its nodes of the
+/// one-process search of the whole mesh, bit for bit, with the whole run's warnings.
+#[test]
+fn a_partitioned_mesh_gets_the_one_process_result_of_its_pieces() {
+    for name in ["sphere_on_plate_tri.mdpa", "cylinder_on_block_2d.mdpa"] {
+        let mesh = scene(name);
+        let setup = test_setup(false, "in_radius_with_obb", "kratos");
+        let mut model = ModelPart::from_arrays("Structure", &mesh).expect("a model");
+        let mut whole = ContactSearch::initialize(&mut model, &setup).expect("initialize");
+        let serial = whole.step(&mut model).expect("search");
+        for ranks in 1..=4u32 {
+            let pieces: Vec<MeshArrays> = (0..ranks).map(|r| piece(&mesh, (ranks, r))).collect();
+            let results: Vec<Result<SearchResult, RunError>> = std::thread::scope(|scope| {
+                let handles: Vec<_> = thread_ranks(ranks as usize)
+                    .into_iter()
+                    .zip(&pieces)
+                    .map(|(transport, local)| {
+                        let setup = &setup;
+                        scope.spawn(move || {
+                            let pool = rayon::ThreadPoolBuilder::new()
+                                .num_threads(1)
+                                .build()
+                                .expect("a pool");
+                            pool.install(|| search_partitioned(Arc::new(transport), local, setup))
+                        })
+                    })
+                    .collect();
+                handles
+                    .into_iter()
+                    .map(|h| h.join().expect("no panic"))
+                    .collect()
+            });
+            let mut seen_nodes = BTreeSet::new();
+            for (local, got) in pieces.iter().zip(results) {
+                let got = got.expect("the partitioned search");
+                let what = format!("{name}, {ranks} ranks");
+                for (id, masters) in &got.pairs["0"] {
+                    assert_eq!(
+                        Some(masters),
+                        serial.pairs["0"].get(id),
+                        "{what}: slave {id}"
+                    );
+                }
+                let slaves_here = (serial.pairs["0"].keys())
+                    .filter(|id| local.conditions.values().any(|a| a.ids.contains(id)))
+                    .count();
+                assert_eq!(
+                    got.pairs["0"].len(),
+                    slaves_here,
+                    "{what}: every local slave"
+                );
+                for (id, n) in &got.nodes {
+                    let s = serial.nodes[id];
+                    assert_eq!(
+                        n.normal_gap.map(f64::to_bits),
+                        s.normal_gap.map(f64::to_bits)
+                    );
+                    assert_eq!(n.active, s.active, "{what}: node {id}");
+                    seen_nodes.insert(*id);
+                }
+                assert_eq!(got.warnings, serial.warnings, "{what}");
+                assert_eq!(got.paired_conditions, serial.paired_conditions, "{what}");
+            }
+            let all: BTreeSet<u32> = serial.nodes.keys().copied().collect();
+            assert_eq!(
+                seen_nodes, all,
+                "{name}, {ranks} ranks: every slave node somewhere"
+            );
+        }
+    }
+}
+
+/// Two pieces that give one node different coordinates: every rank stops with the same
+/// error, which names the node.
+#[test]
+fn pieces_that_disagree_are_refused_on_every_rank() {
+    let mesh = scene("stacked_blocks.mdpa");
+    let setup = test_setup(false, "in_radius", "kratos");
+    let mut b = mesh.clone();
+    b.points[0][0] += 1.0;
+    let node = b.node_ids[0];
+    let results: Vec<Result<SearchResult, RunError>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = thread_ranks(2)
+            .into_iter()
+            .zip([&mesh, &b])
+            .map(|(transport, local)| {
+                let setup = &setup;
+                scope.spawn(move || search_partitioned(Arc::new(transport), local, setup))
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("no panic"))
+            .collect()
+    });
+    let errors: Vec<RunError> = results
+        .into_iter()
+        .map(|r| r.expect_err("refused"))
+        .collect();
+    assert_eq!(errors[0], errors[1]);
+    assert!(
+        errors[0]
+            .0
+            .starts_with(&format!("rank 0 of 2: node {node}: rank 1 gives")),
+        "{}",
+        errors[0]
+    );
+}

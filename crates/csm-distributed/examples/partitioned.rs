@@ -1,0 +1,110 @@
+//! A host code whose mesh is already split across its ranks calls csm on each rank with its
+//! piece (`search_partitioned`), here with the ranks as threads of one process:
+//!
+//! ```text
+//! cargo run -p csm-distributed --example partitioned -- tests/data/scenes/sphere_on_plate_tri.mdpa 3
+//! ```
+//!
+//! With MPI, each rank passes `csm_distributed::MpiTransport::start()?` instead (feature `mpi`,
+//! run under `mpirun`): nothing else changes.
+
+use std::collections::BTreeSet;
+use std::sync::Arc;
+
+use csm_distributed::{search_partitioned, thread_ranks};
+use csm_model::{MeshArrays, PartArrays};
+use csm_search::parse_setup;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let path = args
+        .next()
+        .unwrap_or_else(|| "tests/data/scenes/sphere_on_plate_tri.mdpa".to_owned());
+    let ranks: usize = args.next().map_or(Ok(3), |n| n.parse())?;
+    let mesh = csm_io::read_mesh(std::path::Path::new(&path))?.to_arrays();
+    let setup = parse_setup(
+        r#"{"contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]},
+            "assume_master_slave": {"0": ["Parts_Slave"]}}"#,
+        "<example setup>",
+    )?;
+    // The host's pieces: the conditions and elements of ids `rank` modulo `ranks`.
+    let pieces: Vec<MeshArrays> = (0..ranks).map(|r| piece(&mesh, ranks, r)).collect();
+    let results = std::thread::scope(|scope| {
+        let handles: Vec<_> = thread_ranks(ranks)
+            .into_iter()
+            .zip(&pieces)
+            .map(|(transport, local)| {
+                let setup = &setup;
+                scope.spawn(move || search_partitioned(Arc::new(transport), local, setup))
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("a rank panicked"))
+            .collect::<Vec<_>>()
+    });
+    for (rank, result) in results.into_iter().enumerate() {
+        let result = result?;
+        println!(
+            "rank {rank}: {} of its conditions are slaves, with {} pairs; {} of its nodes are \
+             slave nodes, {} active",
+            result.pairs.values().map(|m| m.len()).sum::<usize>(),
+            result.n_pairs(),
+            result.nodes.len(),
+            result.nodes.values().filter(|n| n.active).count()
+        );
+    }
+    Ok(())
+}
+
+/// Piece `rank` of `ranks`: the entities whose id is `rank` modulo `ranks`, their nodes, the
+/// parts restricted to them.
+fn piece(mesh: &MeshArrays, ranks: usize, rank: usize) -> MeshArrays {
+    let mine = |id: &u32| *id as usize % ranks == rank;
+    let keep = |by_kind: &std::collections::BTreeMap<_, csm_model::EntityArrays>| {
+        let mut out = by_kind.clone();
+        for (kind, a) in out.iter_mut() {
+            let n = csm_geometry::GeometryKind::n_nodes(*kind);
+            let mut kept = csm_model::EntityArrays::default();
+            for (k, id) in a.ids.iter().enumerate().filter(|(_, id)| mine(id)) {
+                kept.ids.push(*id);
+                kept.connectivity
+                    .extend_from_slice(&a.connectivity[k * n..(k + 1) * n]);
+                kept.properties.push(a.properties[k]);
+            }
+            *a = kept;
+        }
+        out
+    };
+    let (elements, conditions) = (keep(&mesh.elements), keep(&mesh.conditions));
+    let used: BTreeSet<u32> = (elements.values().chain(conditions.values()))
+        .flat_map(|a| a.connectivity.iter().copied())
+        .collect();
+    let (node_ids, points) = (mesh.node_ids.iter().zip(&mesh.points))
+        .filter(|(id, _)| used.contains(id))
+        .map(|(id, p)| (*id, *p))
+        .unzip();
+    let parts = (mesh.parts.iter())
+        .map(|(name, p)| {
+            let part = PartArrays {
+                nodes: p
+                    .nodes
+                    .iter()
+                    .copied()
+                    .filter(|n| used.contains(n))
+                    .collect(),
+                elements: p.elements.iter().copied().filter(mine).collect(),
+                conditions: p.conditions.iter().copied().filter(mine).collect(),
+            };
+            (name.clone(), part)
+        })
+        .collect();
+    MeshArrays {
+        node_ids,
+        points,
+        elements,
+        conditions,
+        parts,
+        domain_size: mesh.domain_size,
+    }
+}
