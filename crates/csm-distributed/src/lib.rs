@@ -16,7 +16,7 @@
 //! its owned values read, except the global sums and maximum the ranks must share
 //! (`docs/distributed.md`, "What exactly demands").
 
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 
 mod codec;
 #[cfg(feature = "mpi")]
@@ -186,12 +186,9 @@ fn parts_of(
     if ranks == 0 || which.end as usize > ranks {
         return Err(SplitError::NoRanks);
     }
-    let point_of: HashMap<u32, [f64; 3]> = mesh
-        .node_ids
-        .iter()
-        .copied()
-        .zip(mesh.points.iter().copied())
-        .collect();
+    // Nodes by index (their position in the mesh); sets of nodes are flags by index.
+    let n_nodes = mesh.node_ids.len();
+    let node_index = NodeIndex::new(&mesh.node_ids);
     let conditions = index(&mesh.conditions);
     let part_conditions = |names: &[&str]| -> Result<BTreeSet<u32>, SplitError> {
         let mut out = BTreeSet::new();
@@ -213,17 +210,25 @@ fn parts_of(
     if slave_ids.is_empty() {
         return Err(SplitError::NoSlaves);
     }
+    // A condition's nodes by index.
+    let nodes_of = |id: u32| -> Result<Vec<u32>, SplitError> {
+        let nodes = conditions.get(&id).copied().unwrap_or_default();
+        (nodes.iter())
+            .map(|&n| {
+                (node_index.get(n)).ok_or(SplitError::MissingNode {
+                    condition: id,
+                    node: n,
+                })
+            })
+            .collect()
+    };
+    let slave_nodes: Vec<Vec<u32>> =
+        (slave_ids.iter().map(|&id| nodes_of(id))).collect::<Result<_, _>>()?;
+    let master_nodes: Vec<Vec<u32>> =
+        (master_ids.iter().map(|&id| nodes_of(id))).collect::<Result<_, _>>()?;
     // Centre (node mean) and radius of a condition.
-    let shape = |id: u32| -> Result<([f64; 3], f64), SplitError> {
-        let nodes = conditions[&id];
-        let mut pts = Vec::with_capacity(nodes.len());
-        for &n in nodes {
-            let p = point_of.get(&n).ok_or(SplitError::MissingNode {
-                condition: id,
-                node: n,
-            })?;
-            pts.push(*p);
-        }
+    let shape = |nodes: &Vec<u32>| -> ([f64; 3], f64) {
+        let pts: Vec<[f64; 3]> = nodes.iter().map(|&n| mesh.points[n as usize]).collect();
         let mut centre = [0.0; 3];
         for p in &pts {
             for k in 0..3 {
@@ -231,16 +236,10 @@ fn parts_of(
             }
         }
         let radius = pts.iter().map(|p| distance(p, &centre)).fold(0.0, f64::max);
-        Ok((centre, radius))
+        (centre, radius)
     };
-    let slave_shapes: Vec<([f64; 3], f64)> = slave_ids
-        .iter()
-        .map(|&id| shape(id))
-        .collect::<Result<_, _>>()?;
-    let master_shapes: Vec<([f64; 3], f64)> = master_ids
-        .iter()
-        .map(|&id| shape(id))
-        .collect::<Result<_, _>>()?;
+    let slave_shapes: Vec<([f64; 3], f64)> = slave_nodes.iter().map(shape).collect();
+    let master_shapes: Vec<([f64; 3], f64)> = master_nodes.iter().map(shape).collect();
     let largest_master_radius = master_shapes.iter().map(|s| s.1).fold(0.0, f64::max);
     let keyed: Vec<([f64; 3], u32)> = slave_shapes
         .iter()
@@ -250,36 +249,40 @@ fn parts_of(
     let owner = rcb(&keyed, ranks);
     // The contact parts' nodes on no contact condition (a part's node list may name more
     // nodes than its conditions use): split by their own bisection.
-    let on_conditions: BTreeSet<u32> = (slave_ids.iter().chain(&master_ids))
-        .flat_map(|id| conditions[id].iter().copied())
-        .collect();
+    let mut on_conditions = vec![false; n_nodes];
+    for &n in slave_nodes.iter().chain(&master_nodes).flatten() {
+        on_conditions[n as usize] = true;
+    }
     let mut loose: BTreeSet<u32> = BTreeSet::new();
     for name in slaves.iter().chain(contact) {
         if let Some(part) = mesh.parts.get(*name) {
-            loose.extend(part.nodes.iter().filter(|n| !on_conditions.contains(n)));
+            loose.extend(
+                (part.nodes.iter())
+                    .filter_map(|&n| node_index.get(n))
+                    .filter(|&i| !on_conditions[i as usize]),
+            );
         }
     }
-    let loose_nodes: Vec<([f64; 3], u32)> = loose
-        .iter()
-        .filter_map(|n| point_of.get(n).map(|p| (*p, *n)))
+    drop(on_conditions);
+    let loose: Vec<u32> = loose.into_iter().collect();
+    let loose_keyed: Vec<([f64; 3], u32)> = (loose.iter())
+        .map(|&i| (mesh.points[i as usize], mesh.node_ids[i as usize]))
         .collect();
-    let loose_owner = rcb(&loose_nodes, ranks);
-    // Slave nodes: the slave conditions at each, ascending by id (the slave ids are).
-    let mut at_node: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
-    for (s, id) in slave_ids.iter().enumerate() {
-        for &n in conditions[id] {
-            let list = at_node.entry(n).or_default();
-            if list.last() != Some(&s) {
-                list.push(s);
-            }
-        }
-    }
-    let mut masters_at_node: HashMap<u32, Vec<usize>> = HashMap::new();
-    for (m, id) in master_ids.iter().enumerate() {
-        for &n in conditions[id] {
-            masters_at_node.entry(n).or_default().push(m);
-        }
-    }
+    let loose_owner = rcb(&loose_keyed, ranks);
+    // The slave conditions at each node (positions, ascending: the slave ids are), the master
+    // conditions at each node.
+    let at_node = Incidence::new(n_nodes, &slave_nodes);
+    let masters_at_node = Incidence::new(n_nodes, &master_nodes);
+    // The elements' nodes by index (`u32::MAX`: a node the mesh lacks), in the mesh's order.
+    let element_nodes: Vec<Vec<u32>> = (mesh.elements.iter())
+        .flat_map(|(kind, a)| a.connectivity.chunks(kind.n_nodes().max(1)))
+        .map(|nodes| {
+            (nodes.iter())
+                .map(|&n| node_index.get(n).unwrap_or(u32::MAX))
+                .collect()
+        })
+        .collect();
+    let flagged = |flags: &[bool], n: u32| flags.get(n as usize).copied().unwrap_or(false);
     let mut parts = Vec::with_capacity(which.len());
     for rank in which {
         let owned: Vec<usize> = (0..slave_ids.len()).filter(|&s| owner[s] == rank).collect();
@@ -287,97 +290,113 @@ fn parts_of(
         // read every slave condition at it (the first ring), and those conditions' operators
         // read the mean normals of all their nodes, sums over the conditions at them (the
         // second ring).
-        let mut held_slaves: BTreeSet<usize> = owned.iter().copied().collect();
+        let mut held_slave = vec![false; slave_ids.len()];
+        let mut held: Vec<usize> = owned.clone();
+        for &s in &owned {
+            held_slave[s] = true;
+        }
         for _ in 0..2 {
-            let inner: Vec<usize> = held_slaves.iter().copied().collect();
-            for s in inner {
-                for n in conditions[&slave_ids[s]] {
-                    held_slaves.extend(at_node[n].iter().copied());
+            for k in 0..held.len() {
+                for &n in &slave_nodes[held[k]] {
+                    for &t in at_node.of(n) {
+                        if !std::mem::replace(&mut held_slave[t as usize], true) {
+                            held.push(t as usize);
+                        }
+                    }
                 }
             }
         }
-        // 2. The masters within reach of a held slave.
-        let held: Vec<([f64; 3], f64)> = held_slaves.iter().map(|&s| slave_shapes[s]).collect();
-        let near = Near::new(&held, reach, largest_master_radius);
-        let held_masters: Vec<usize> = (0..master_ids.len())
-            .filter(|&m| near.reaches(master_shapes[m]))
-            .collect();
-        // The masters sharing a node with one of these (the mean normals at a master node
-        // sum over every master condition at it).
-        let mut ring: BTreeSet<usize> = held_masters.iter().copied().collect();
-        for &m in &held_masters {
-            for n in conditions[&master_ids[m]] {
-                ring.extend(masters_at_node.get(n).into_iter().flatten().copied());
+        held.sort_unstable();
+        // 2. The masters within reach of a held slave, and the masters sharing a node with
+        // one of these (the mean normals at a master node sum over every master condition at
+        // it).
+        let shapes: Vec<([f64; 3], f64)> = held.iter().map(|&s| slave_shapes[s]).collect();
+        let near = Near::new(&shapes, reach, largest_master_radius);
+        let mut held_master = vec![false; master_ids.len()];
+        for m in 0..master_ids.len() {
+            if near.reaches(master_shapes[m]) {
+                held_master[m] = true;
+                for &n in &master_nodes[m] {
+                    for &t in masters_at_node.of(n) {
+                        held_master[t as usize] = true;
+                    }
+                }
             }
         }
-        let held_conditions: BTreeSet<u32> = held_slaves
-            .iter()
-            .map(|&s| slave_ids[s])
-            .chain(ring.iter().map(|&m| master_ids[m]))
+        let held_conditions: HashSet<u32> = (held.iter().map(|&s| slave_ids[s]))
+            .chain(
+                (0..master_ids.len())
+                    .filter(|&m| held_master[m])
+                    .map(|m| master_ids[m]),
+            )
             .collect();
-        let mut contact_nodes: BTreeSet<u32> = held_conditions
+        let mut contact_node = vec![false; n_nodes];
+        let held_masters = (0..master_ids.len()).filter(|&m| held_master[m]);
+        for nodes in held
             .iter()
-            .flat_map(|id| conditions[id].iter().copied())
-            .collect();
+            .map(|&s| &slave_nodes[s])
+            .chain(held_masters.map(|m| &master_nodes[m]))
+        {
+            for &n in nodes {
+                contact_node[n as usize] = true;
+            }
+        }
         // The contact parts' nodes on no contact condition that this rank holds for the
         // largest and the mean NODAL_H (they count there as in the one-process run).
-        contact_nodes.extend(
-            (loose_nodes.iter().zip(&loose_owner))
-                .filter(|(_, o)| **o == rank)
-                .map(|(n, _)| n.1),
-        );
+        for (&n, _) in loose.iter().zip(&loose_owner).filter(|(_, o)| **o == rank) {
+            contact_node[n as usize] = true;
+        }
         // 3. The elements around the contact nodes, two layers deep (the normal check's probe
         // point, a fraction of an element inside the body, can fall past the first layer);
         // 4. every node used.
-        let first = filter_entities(&mesh.elements, |_, nodes| {
-            nodes.iter().any(|n| contact_nodes.contains(n))
-        });
-        let first_nodes: BTreeSet<u32> = first
-            .values()
-            .flat_map(|a| a.connectivity.iter().copied())
-            .collect();
-        let elements = filter_entities(&mesh.elements, |_, nodes| {
-            nodes.iter().any(|n| first_nodes.contains(n))
-        });
-        let conditions_kept =
-            filter_entities(&mesh.conditions, |id, _| held_conditions.contains(&id));
-        let mut used: BTreeSet<u32> = contact_nodes.clone();
-        for arrays in elements.values() {
-            used.extend(arrays.connectivity.iter().copied());
+        let mut first_node = vec![false; n_nodes];
+        for nodes in &element_nodes {
+            if nodes.iter().any(|&n| flagged(&contact_node, n)) {
+                for &n in nodes.iter().filter(|&&n| n != u32::MAX) {
+                    first_node[n as usize] = true;
+                }
+            }
         }
-        let (node_ids, points): (Vec<u32>, Vec<[f64; 3]>) = mesh
-            .node_ids
-            .iter()
-            .zip(&mesh.points)
-            .filter(|(id, _)| used.contains(id))
-            .map(|(id, p)| (*id, *p))
-            .unzip();
-        let element_ids: BTreeSet<u32> = elements
-            .values()
+        let kept_element: Vec<bool> = (element_nodes.iter())
+            .map(|nodes| nodes.iter().any(|&n| flagged(&first_node, n)))
+            .collect();
+        drop(first_node);
+        let mut used = contact_node.clone();
+        for (nodes, _) in element_nodes.iter().zip(&kept_element).filter(|(_, k)| **k) {
+            for &n in nodes.iter().filter(|&&n| n != u32::MAX) {
+                used[n as usize] = true;
+            }
+        }
+        let mut next = 0;
+        let elements = filter_entities(&mesh.elements, |_, _| {
+            next += 1;
+            kept_element[next - 1]
+        });
+        let element_ids: HashSet<u32> = (elements.values())
             .flat_map(|a| a.ids.iter().copied())
             .collect();
+        let conditions_kept =
+            filter_entities(&mesh.conditions, |id, _| held_conditions.contains(&id));
+        let (node_ids, points): (Vec<u32>, Vec<[f64; 3]>) = (0..n_nodes)
+            .filter(|&i| used[i])
+            .map(|i| (mesh.node_ids[i], mesh.points[i]))
+            .unzip();
+        let is_contact_node = |id: &u32| {
+            node_index
+                .get(*id)
+                .is_some_and(|i| contact_node[i as usize])
+        };
         let part_arrays = mesh
             .parts
             .iter()
             .map(|(path, p)| {
                 let kept = PartArrays {
                     // Only the nodes whose elements are all held (their NODAL_H is whole).
-                    nodes: p
-                        .nodes
-                        .iter()
-                        .copied()
-                        .filter(|n| contact_nodes.contains(n))
-                        .collect(),
-                    elements: p
-                        .elements
-                        .iter()
-                        .copied()
+                    nodes: p.nodes.iter().copied().filter(is_contact_node).collect(),
+                    elements: (p.elements.iter().copied())
                         .filter(|e| element_ids.contains(e))
                         .collect(),
-                    conditions: p
-                        .conditions
-                        .iter()
-                        .copied()
+                    conditions: (p.conditions.iter().copied())
                         .filter(|c| held_conditions.contains(c))
                         .collect(),
                 };
@@ -386,11 +405,17 @@ fn parts_of(
             .collect();
         let mut owned_conditions: Vec<u32> = owned.iter().map(|&s| slave_ids[s]).collect();
         owned_conditions.sort_unstable();
-        let owned_nodes: Vec<u32> = at_node
-            .iter()
-            .filter(|(_, at)| owner[at[0]] == rank)
-            .map(|(n, _)| *n)
+        // A slave node belongs to the owner of its lowest-id slave condition.
+        let mut owned_nodes: Vec<u32> = (0..n_nodes as u32)
+            .filter(|&n| {
+                at_node
+                    .of(n)
+                    .first()
+                    .is_some_and(|&s| owner[s as usize] == rank)
+            })
+            .map(|n| mesh.node_ids[n as usize])
             .collect();
+        owned_nodes.sort_unstable();
         parts.push(RankPart {
             mesh: MeshArrays {
                 node_ids,
@@ -407,13 +432,104 @@ fn parts_of(
     Ok(parts)
 }
 
+/// Node positions by id: a table where the ids are dense enough, else a hash map.
+enum NodeIndex {
+    Dense(Vec<u32>),
+    Sparse(HashMap<u32, u32>),
+}
+
+impl NodeIndex {
+    fn new(ids: &[u32]) -> NodeIndex {
+        let largest = ids.iter().copied().max().unwrap_or(0) as usize;
+        if largest <= 4 * ids.len() + 1024 {
+            let mut table = vec![u32::MAX; largest + 1];
+            for (i, &id) in ids.iter().enumerate() {
+                table[id as usize] = i as u32;
+            }
+            NodeIndex::Dense(table)
+        } else {
+            NodeIndex::Sparse(
+                ids.iter()
+                    .enumerate()
+                    .map(|(i, &id)| (id, i as u32))
+                    .collect(),
+            )
+        }
+    }
+
+    fn get(&self, id: u32) -> Option<u32> {
+        match self {
+            NodeIndex::Dense(table) => table.get(id as usize).copied().filter(|&i| i != u32::MAX),
+            NodeIndex::Sparse(map) => map.get(&id).copied(),
+        }
+    }
+}
+
+/// The conditions at each node, as positions in a list of conditions (ascending, each once):
+/// compressed rows by node index.
+struct Incidence {
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Incidence {
+    fn new(n_nodes: usize, condition_nodes: &[Vec<u32>]) -> Incidence {
+        let mut count = vec![0u32; n_nodes + 1];
+        for nodes in condition_nodes {
+            for &n in nodes {
+                count[n as usize + 1] += 1;
+            }
+        }
+        for i in 0..n_nodes {
+            count[i + 1] += count[i];
+        }
+        let mut fill = count.clone();
+        let mut items = vec![u32::MAX; count[n_nodes] as usize];
+        for (c, nodes) in condition_nodes.iter().enumerate() {
+            for &n in nodes {
+                let at = &mut fill[n as usize];
+                items[*at as usize] = c as u32;
+                *at += 1;
+            }
+        }
+        // A condition that names a node twice is listed once.
+        let mut start = vec![0u32; n_nodes + 1];
+        let mut kept = Vec::with_capacity(items.len());
+        for i in 0..n_nodes {
+            let row = &items[count[i] as usize..count[i + 1] as usize];
+            for (k, &c) in row.iter().enumerate() {
+                if k == 0 || row[k - 1] != c {
+                    kept.push(c);
+                }
+            }
+            start[i + 1] = kept.len() as u32;
+        }
+        Incidence { start, items: kept }
+    }
+
+    fn of(&self, n: u32) -> &[u32] {
+        let n = n as usize;
+        &self.items[self.start[n] as usize..self.start[n + 1] as usize]
+    }
+}
+
 /// The held slaves (centre, radius) bucketed in a grid whose cells are as wide as the
-/// farthest reach, so that a master's reaching slaves lie in the 27 cells around it.
+/// farthest reach, so that a master's reaching slaves lie in the 27 cells around it; each
+/// cell keeps the box of its slaves' centres and their farthest reach, to skip it whole.
 struct Near<'a> {
     slaves: &'a [([f64; 3], f64)],
     reach: Reach,
     cell: f64,
-    cells: HashMap<[i64; 3], Vec<usize>>,
+    cells: HashMap<[i64; 3], Cell>,
+}
+
+/// A grid cell of [`Near`]: its slaves, the box of their centres, their farthest reach.
+#[derive(Default)]
+struct Cell {
+    slaves: Vec<usize>,
+    lo: [f64; 3],
+    hi: [f64; 3],
+    farthest: f64,
 }
 
 impl<'a> Near<'a> {
@@ -428,9 +544,19 @@ impl<'a> Near<'a> {
         } else {
             1.0
         };
-        let mut cells: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
-        for (k, (c, _)) in slaves.iter().enumerate() {
-            cells.entry(cell_of(c, cell)).or_default().push(k);
+        let mut cells: HashMap<[i64; 3], Cell> = HashMap::new();
+        for (k, (c, r)) in slaves.iter().enumerate() {
+            let entry = cells.entry(cell_of(c, cell)).or_insert_with(|| Cell {
+                lo: *c,
+                hi: *c,
+                ..Cell::default()
+            });
+            entry.slaves.push(k);
+            for (d, x) in c.iter().enumerate() {
+                entry.lo[d] = entry.lo[d].min(*x);
+                entry.hi[d] = entry.hi[d].max(*x);
+            }
+            entry.farthest = entry.farthest.max(reach.factor * r);
         }
         Near {
             slaves,
@@ -448,10 +574,22 @@ impl<'a> Near<'a> {
             for dy in -1..=1 {
                 for dz in -1..=1 {
                     let key = [at[0] + dx, at[1] + dy, at[2] + dz];
-                    let Some(list) = self.cells.get(&key) else {
+                    let Some(cell) = self.cells.get(&key) else {
                         continue;
                     };
-                    if list.iter().any(|&k| {
+                    // The distance from the master's centre to the box of the centres.
+                    let outside: f64 = (0..3)
+                        .map(|d| {
+                            (cell.lo[d] - cm[d])
+                                .max(cm[d] - cell.hi[d])
+                                .max(0.0)
+                                .powi(2)
+                        })
+                        .sum();
+                    if outside > (cell.farthest + rm).powi(2) {
+                        continue;
+                    }
+                    if cell.slaves.iter().any(|&k| {
                         let (cs, rs) = self.slaves[k];
                         distance(&cs, &cm) <= self.reach.factor * rs + rm
                     }) {
@@ -487,7 +625,7 @@ fn index(by_kind: &BTreeMap<GeometryKind, EntityArrays>) -> HashMap<u32, &[u32]>
 /// The entities `keep(id, nodes)` holds, in their order, by kind (kinds left empty dropped).
 fn filter_entities(
     by_kind: &BTreeMap<GeometryKind, EntityArrays>,
-    keep: impl Fn(u32, &[u32]) -> bool,
+    mut keep: impl FnMut(u32, &[u32]) -> bool,
 ) -> BTreeMap<GeometryKind, EntityArrays> {
     let mut out = BTreeMap::new();
     for (&kind, arrays) in by_kind {
