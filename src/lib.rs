@@ -16,9 +16,10 @@
 //! | `io` | Gmsh `.msh` and Kratos `.mdpa` readers, VTU writer | `msh`, `mdpa`, `vtk` (all: `io`) |
 //! | `search` | the contact search, stages 0–8, and its `Plan` | `search` |
 //! | `activation` | the mapped gap and activation, stage 9 | `activation` |
+//! | `distributed` | the search split across ranks: threads, or MPI (`mpirun -np N csm search`) | `distributed`, `mpi` (not default) |
 //! | `cli` | the commands of the `csm` binary | `cli` |
 //!
-//! Every feature is on by default. With `default-features = false` a user of one layer or one
+//! Every feature but `distributed` and `mpi` is on by default. With `default-features = false` a user of one layer or one
 //! format compiles only it and the layers below it (e.g. `features = ["geometry"]` builds
 //! `csm-geometry` and nalgebra alone).
 #![deny(missing_docs)]

@@ -143,8 +143,9 @@ fn ci() -> Result<()> {
 
 /// The facade's features, each checked alone (`cli` is the default set, which the workspace
 /// clippy run checks).
-const FACADE_FEATURES: [&str; 11] = [
+const FACADE_FEATURES: [&str; 12] = [
     "",
+    "distributed",
     "geometry",
     "trees",
     "model",

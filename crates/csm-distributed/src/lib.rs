@@ -1,20 +1,17 @@
-//! The contact search split across ranks (issue 29, `docs/distributed.md`, "Partitioning"):
-//! the recursive coordinate bisection of the slave conditions ([`rcb`]) and each rank's part
-//! of the mesh ([`split`]): its own slave conditions, the slave conditions that share a node
-//! with them, the master conditions within reach of any of these, the elements around their
-//! nodes, and every node they use.
+//! The contact search split across ranks (issue 29, `docs/distributed.md`): the recursive
+//! coordinate bisection of the slave conditions ([`rcb`]) and each rank's part of the mesh
+//! ([`split`], [`split_rank`]): its own slave conditions, two rings of slave conditions around
+//! them, the master conditions within reach of these and their ring, the elements around their
+//! nodes, and every node they use; one rank's search of its part with the values the ranks
+//! share ([`search_rank`]), and the host-partitioned form ([`search_partitioned`]); the ranks
+//! as threads ([`thread_ranks`]) or, with the feature `mpi`, as the processes of `mpirun`
+//! (`MpiTransport`).
 //!
-//! No MPI here. A rank's part is an ordinary [`MeshArrays`]: the split is checked in one
-//! process by searching every part, with the whole problem's values
-//! (`csm_search::ContactSearch::set_globals`), and comparing its owned slaves' pairs and owned
-//! nodes' results with the search of the whole mesh (the tests). The exchange of the parts
-//! between ranks, the ghost values and the mapper's per-iteration global sum are the next steps
-//! of the issue.
-//!
-//! **Architecture Invariant:** `csm-distributed` depends only on `csm-model` and
-//! `csm-geometry` (its tests also read meshes and search them). A rank's part holds everything
-//! its owned values read, except the global sums and maximum the ranks must share
-//! (`docs/distributed.md`, "What exactly demands").
+//! **Architecture Invariant:** `csm-distributed` depends on `csm-search` and the layers below
+//! it. A rank's part holds everything its owned values read; what it cannot hold (the global
+//! sums and maxima, the ghost slave nodes' values between mapper iterations) the ranks
+//! exchange in the serial order (`csm_model::Ranks`), so that every owned value is the
+//! one-process value, bit for bit.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 
