@@ -254,19 +254,7 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
                     0 => String::new(),
                     n => format!("{n} steps; after the last: "),
                 };
-                eprintln!(
-                    "{steps}{} slave conditions, {} pairs, {} paired conditions; read {:.3} s, \
-                     initialize {:.3} s, search {:.3} s",
-                    result.pairs.values().map(|m| m.len()).sum::<usize>(),
-                    result.n_pairs(),
-                    result.paired_conditions,
-                    timings.read,
-                    timings.initialize,
-                    timings.search
-                );
-                for w in &result.warnings {
-                    eprintln!("warning: {w}");
-                }
+                summary(&result, &timings, (&steps, ""));
             }
             Ok(())
         }
@@ -501,21 +489,31 @@ fn search_on_ranks(
         None => out(&result_json(&result, &timings)?)?,
     }
     if !quiet {
-        eprintln!(
-            "{} slave conditions, {} pairs, {} paired conditions; read {:.3} s, initialize \
-             {:.3} s, search {:.3} s (rank 0)",
-            result.pairs.values().map(|m| m.len()).sum::<usize>(),
-            result.n_pairs(),
-            result.paired_conditions,
-            timings.read,
-            timings.initialize,
-            timings.search
-        );
-        for w in &result.warnings {
-            eprintln!("warning: {w}");
-        }
+        summary(&result, &timings, ("", " (rank 0)"));
     }
     Ok(())
+}
+
+/// `csm search`'s summary on standard error: the counts, the times (`before` and `after`
+/// them), the warnings.
+fn summary(
+    result: &csm::search::SearchResult,
+    timings: &csm::cli::Timings,
+    (before, after): (&str, &str),
+) {
+    eprintln!(
+        "{before}{} slave conditions, {} pairs, {} paired conditions; read {:.3} s, initialize \
+         {:.3} s, search {:.3} s{after}",
+        result.pairs.values().map(|m| m.len()).sum::<usize>(),
+        result.n_pairs(),
+        result.paired_conditions,
+        timings.read,
+        timings.initialize,
+        timings.search
+    );
+    for w in &result.warnings {
+        eprintln!("warning: {w}");
+    }
 }
 
 fn start_threads(threads: Option<usize>) -> Result<(), String> {

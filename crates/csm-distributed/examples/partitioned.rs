@@ -8,11 +8,10 @@
 //! With MPI, each rank passes `csm_distributed::MpiTransport::start()?` instead (feature `mpi`,
 //! run under `mpirun`): nothing else changes.
 
-use std::collections::BTreeSet;
 use std::sync::Arc;
 
-use csm_distributed::{search_partitioned, thread_ranks};
-use csm_model::{MeshArrays, PartArrays};
+use csm_distributed::{search_partitioned, sub_mesh, thread_ranks};
+use csm_model::MeshArrays;
 use csm_search::parse_setup;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -60,51 +59,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 /// Piece `rank` of `ranks`: the entities whose id is `rank` modulo `ranks`, their nodes, the
 /// parts restricted to them.
 fn piece(mesh: &MeshArrays, ranks: usize, rank: usize) -> MeshArrays {
-    let mine = |id: &u32| *id as usize % ranks == rank;
-    let keep = |by_kind: &std::collections::BTreeMap<_, csm_model::EntityArrays>| {
-        let mut out = by_kind.clone();
-        for (kind, a) in out.iter_mut() {
-            let n = csm_geometry::GeometryKind::n_nodes(*kind);
-            let mut kept = csm_model::EntityArrays::default();
-            for (k, id) in a.ids.iter().enumerate().filter(|(_, id)| mine(id)) {
-                kept.ids.push(*id);
-                kept.connectivity
-                    .extend_from_slice(&a.connectivity[k * n..(k + 1) * n]);
-                kept.properties.push(a.properties[k]);
-            }
-            *a = kept;
-        }
-        out
-    };
-    let (elements, conditions) = (keep(&mesh.elements), keep(&mesh.conditions));
-    let used: BTreeSet<u32> = (elements.values().chain(conditions.values()))
-        .flat_map(|a| a.connectivity.iter().copied())
-        .collect();
-    let (node_ids, points) = (mesh.node_ids.iter().zip(&mesh.points))
-        .filter(|(id, _)| used.contains(id))
-        .map(|(id, p)| (*id, *p))
-        .unzip();
-    let parts = (mesh.parts.iter())
-        .map(|(name, p)| {
-            let part = PartArrays {
-                nodes: p
-                    .nodes
-                    .iter()
-                    .copied()
-                    .filter(|n| used.contains(n))
-                    .collect(),
-                elements: p.elements.iter().copied().filter(mine).collect(),
-                conditions: p.conditions.iter().copied().filter(mine).collect(),
-            };
-            (name.clone(), part)
-        })
-        .collect();
-    MeshArrays {
-        node_ids,
-        points,
-        elements,
-        conditions,
-        parts,
-        domain_size: mesh.domain_size,
-    }
+    let mine = |id: u32| id as usize % ranks == rank;
+    sub_mesh(mesh, mine, mine)
 }

@@ -603,6 +603,52 @@ fn cell_of(p: &[f64; 3], cell: f64) -> [i64; 3] {
     p.map(|x| (x / cell).floor() as i64)
 }
 
+/// The part of `mesh` a host code's rank might hold: the elements and the conditions whose
+/// ids `keep_element` and `keep_condition` keep, every node they use, the parts restricted to
+/// these (what [`search_partitioned`] takes as a rank's piece).
+pub fn sub_mesh(
+    mesh: &MeshArrays,
+    keep_element: impl Fn(u32) -> bool,
+    keep_condition: impl Fn(u32) -> bool,
+) -> MeshArrays {
+    let elements = filter_entities(&mesh.elements, |id, _| keep_element(id));
+    let conditions = filter_entities(&mesh.conditions, |id, _| keep_condition(id));
+    let used: HashSet<u32> = (elements.values().chain(conditions.values()))
+        .flat_map(|a| a.connectivity.iter().copied())
+        .collect();
+    let (node_ids, points) = (mesh.node_ids.iter().zip(&mesh.points))
+        .filter(|(id, _)| used.contains(id))
+        .map(|(id, p)| (*id, *p))
+        .unzip();
+    let parts = (mesh.parts.iter())
+        .map(|(name, p)| {
+            let part = PartArrays {
+                nodes: p
+                    .nodes
+                    .iter()
+                    .copied()
+                    .filter(|n| used.contains(n))
+                    .collect(),
+                elements: (p.elements.iter().copied())
+                    .filter(|&e| keep_element(e))
+                    .collect(),
+                conditions: (p.conditions.iter().copied())
+                    .filter(|&c| keep_condition(c))
+                    .collect(),
+            };
+            (name.clone(), part)
+        })
+        .collect();
+    MeshArrays {
+        node_ids,
+        points,
+        elements,
+        conditions,
+        parts,
+        domain_size: mesh.domain_size,
+    }
+}
+
 fn distance(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }

@@ -76,27 +76,37 @@ fn on_threads(
     on_threads_each(&inputs)
 }
 
-/// [`on_threads`] where each rank has its own mesh and setup (`inputs[rank]`).
-fn on_threads_each(inputs: &[(&MeshArrays, &SearchSetup)]) -> Result<SearchResult, RunError> {
-    let ranks = inputs.len();
-    let outcomes: Vec<Result<Option<SearchResult>, RunError>> = std::thread::scope(|scope| {
-        let handles: Vec<_> = thread_ranks(ranks)
-            .into_iter()
-            .zip(inputs)
-            .map(|(transport, &(mesh, setup))| {
+/// `run(transport, rank)` on `ranks` ranks, each a thread with a pool of its own (a rank
+/// blocked in an exchange blocks no other rank's work); the outcomes in rank order.
+fn on_rank_threads<T: Send>(
+    ranks: usize,
+    run: impl Fn(Arc<dyn csm_model::Transport>, usize) -> T + Sync,
+) -> Vec<T> {
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (thread_ranks(ranks).into_iter().enumerate())
+            .map(|(rank, transport)| {
+                let run = &run;
                 scope.spawn(move || {
                     let pool = rayon::ThreadPoolBuilder::new()
                         .num_threads(1)
                         .build()
                         .expect("a pool");
-                    pool.install(|| search_rank(Arc::new(transport), mesh, setup))
+                    pool.install(|| run(Arc::new(transport), rank))
                 })
             })
             .collect();
-        handles
-            .into_iter()
+        (handles.into_iter())
             .map(|h| h.join().expect("no rank panics"))
             .collect()
+    })
+}
+
+/// [`on_threads`] where each rank has its own mesh and setup (`inputs[rank]`).
+fn on_threads_each(inputs: &[(&MeshArrays, &SearchSetup)]) -> Result<SearchResult, RunError> {
+    let ranks = inputs.len();
+    let outcomes = on_rank_threads(ranks, |transport, rank| {
+        let (mesh, setup) = inputs[rank];
+        search_rank(transport, mesh, setup)
     });
     let mut results = Vec::new();
     let mut errors = Vec::new();
@@ -349,44 +359,7 @@ fn unsupported_setups_are_refused_with_a_reason() {
 /// conditions whose id is `rank` modulo `ranks` (scattered, the hardest case for the
 /// exchange), every node they use, the parts restricted to these.
 fn piece(mesh: &MeshArrays, (ranks, rank): (u32, u32)) -> MeshArrays {
-    let mine = |id: u32| id % ranks == rank;
-    let elements = filter_entities(&mesh.elements, |id, _| mine(id));
-    let conditions = filter_entities(&mesh.conditions, |id, _| mine(id));
-    let used: BTreeSet<u32> = (elements.values().chain(conditions.values()))
-        .flat_map(|a| a.connectivity.iter().copied())
-        .collect();
-    let (node_ids, points) = (mesh.node_ids.iter().zip(&mesh.points))
-        .filter(|(id, _)| used.contains(id))
-        .map(|(id, p)| (*id, *p))
-        .unzip();
-    let ids = |by_kind: &BTreeMap<GeometryKind, EntityArrays>| -> BTreeSet<u32> {
-        by_kind
-            .values()
-            .flat_map(|a| a.ids.iter().copied())
-            .collect()
-    };
-    let (element_ids, condition_ids) = (ids(&elements), ids(&conditions));
-    let parts = (mesh.parts.iter())
-        .map(|(name, p)| {
-            let keep = |list: &[u32], set: &BTreeSet<u32>| -> Vec<u32> {
-                list.iter().copied().filter(|x| set.contains(x)).collect()
-            };
-            let part = PartArrays {
-                nodes: keep(&p.nodes, &used),
-                elements: keep(&p.elements, &element_ids),
-                conditions: keep(&p.conditions, &condition_ids),
-            };
-            (name.clone(), part)
-        })
-        .collect();
-    MeshArrays {
-        node_ids,
-        points,
-        elements,
-        conditions,
-        parts,
-        domain_size: mesh.domain_size,
-    }
+    sub_mesh(mesh, |id| id % ranks == rank, |id| id % ranks == rank)
 }
 
 /// A host code's mesh already split across 1 to 4 ranks (threads), each rank passing its
@@ -402,25 +375,8 @@ fn a_partitioned_mesh_gets_the_one_process_result_of_its_pieces() {
         let serial = whole.step(&mut model).expect("search");
         for ranks in 1..=4u32 {
             let pieces: Vec<MeshArrays> = (0..ranks).map(|r| piece(&mesh, (ranks, r))).collect();
-            let results: Vec<Result<SearchResult, RunError>> = std::thread::scope(|scope| {
-                let handles: Vec<_> = thread_ranks(ranks as usize)
-                    .into_iter()
-                    .zip(&pieces)
-                    .map(|(transport, local)| {
-                        let setup = &setup;
-                        scope.spawn(move || {
-                            let pool = rayon::ThreadPoolBuilder::new()
-                                .num_threads(1)
-                                .build()
-                                .expect("a pool");
-                            pool.install(|| search_partitioned(Arc::new(transport), local, setup))
-                        })
-                    })
-                    .collect();
-                handles
-                    .into_iter()
-                    .map(|h| h.join().expect("no panic"))
-                    .collect()
+            let results = on_rank_threads(ranks as usize, |transport, rank| {
+                search_partitioned(transport, &pieces[rank], &setup)
             });
             let mut seen_nodes = BTreeSet::new();
             for (local, got) in pieces.iter().zip(results) {
@@ -471,19 +427,8 @@ fn pieces_that_disagree_are_refused_on_every_rank() {
     let mut b = mesh.clone();
     b.points[0][0] += 1.0;
     let node = b.node_ids[0];
-    let results: Vec<Result<SearchResult, RunError>> = std::thread::scope(|scope| {
-        let handles: Vec<_> = thread_ranks(2)
-            .into_iter()
-            .zip([&mesh, &b])
-            .map(|(transport, local)| {
-                let setup = &setup;
-                scope.spawn(move || search_partitioned(Arc::new(transport), local, setup))
-            })
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| h.join().expect("no panic"))
-            .collect()
+    let results = on_rank_threads(2, |transport, rank| {
+        search_partitioned(transport, [&mesh, &b][rank], &setup)
     });
     let errors: Vec<RunError> = results
         .into_iter()
