@@ -443,3 +443,47 @@ fn pieces_that_disagree_are_refused_on_every_rank() {
         errors[0]
     );
 }
+
+/// The collective operations between ranks (threads): a maximum and a count of every rank's
+/// values; sum terms merged in ascending id order with each id once, whichever rank gave it;
+/// ghost values from their owners; and ranks out of step (each in another operation) both
+/// stopped with the same message instead of a wrong value or a hang.
+#[test]
+fn ranks_share_exactly_and_stop_together_when_out_of_step() {
+    let outcomes = on_rank_threads(3, |transport, rank| {
+        let ranks = csm_model::Ranks::new(transport, &[rank as u32], &[]);
+        let r = rank as f64;
+        let max = ranks.max(r * 2.0).unwrap();
+        let count = ranks.sum_count(rank as u64 + 1).unwrap();
+        // Rank k gives node ids k, k + 1 (so 1 and 2 come twice, the same values).
+        let terms: Vec<(u32, [f64; 3])> = [rank as u32, rank as u32 + 1]
+            .iter()
+            .map(|&id| (id, [f64::from(id), 0.0, 0.0]))
+            .collect();
+        let merged = ranks.terms(&terms).unwrap();
+        let owned = [(rank as u32, [r, r, r])];
+        let ghosts = ranks.values(&owned, &[(rank as u32 + 1) % 3, 7]).unwrap();
+        (max, count, merged, ghosts)
+    });
+    for (rank, (max, count, merged, ghosts)) in outcomes.into_iter().enumerate() {
+        assert_eq!((max, count), (4.0, 6), "rank {rank}");
+        let ids: Vec<u32> = merged.iter().map(|t| t.0).collect();
+        assert_eq!(ids, [0, 1, 2, 3], "rank {rank}");
+        assert!(merged.iter().all(|(id, v)| v[0] == f64::from(*id)));
+        let next = ((rank + 1) % 3) as f64;
+        assert_eq!(ghosts, [Some([next; 3]), None], "rank {rank}");
+    }
+    // Rank 1 asks for a count where the others ask for a maximum.
+    let stopped = on_rank_threads(3, |transport, rank| {
+        let ranks = csm_model::Ranks::new(transport, &[], &[]);
+        let step = if rank == 1 {
+            ranks.sum_count(1).map(|_| ())
+        } else {
+            ranks.max(1.0).map(|_| ())
+        };
+        step.map_err(|_| ranks.agree_on_failure(None))
+    });
+    for outcome in stopped {
+        assert_eq!(outcome, Err("the ranks went out of step".to_owned()));
+    }
+}
