@@ -116,6 +116,10 @@ fn bisect(
 pub struct Reach {
     /// Slave radii.
     pub factor: f64,
+    /// Every rank holds every master condition, whatever the distance: for a search whose
+    /// result depends on the kd-tree over all the masters (Kratos' DirectCheck reads the
+    /// ACTIVE flags its earlier candidates set, in the tree's candidate order).
+    pub every_master: bool,
 }
 
 impl Reach {
@@ -124,6 +128,15 @@ impl Reach {
     pub fn for_search_factor(search_factor: f64) -> Reach {
         Reach {
             factor: 4.0 * search_factor.max(1.0) + 2.0,
+            every_master: false,
+        }
+    }
+
+    /// This reach, holding every master condition ([`Reach::every_master`]).
+    pub fn with_every_master(self) -> Reach {
+        Reach {
+            every_master: true,
+            ..self
         }
     }
 }
@@ -311,7 +324,7 @@ fn parts_of(
         let near = Near::new(&shapes, reach, largest_master_radius);
         let mut held_master = vec![false; master_ids.len()];
         for m in 0..master_ids.len() {
-            if near.reaches(master_shapes[m]) {
+            if reach.every_master || near.reaches(master_shapes[m]) {
                 held_master[m] = true;
                 for &n in &master_nodes[m] {
                     for &t in masters_at_node.of(n) {

@@ -71,16 +71,6 @@ pub fn distributed_pair(setup: &SearchSetup) -> Result<(u32, &PairSetup), String
         // builds other leaves (`docs/distributed.md`).
         return refuse("`\"type_search\": \"octree_with_obb\"` (use a kd-tree search type)");
     }
-    if pair.search.check_gap == csm_search::CheckGap::DirectCheck
-        && setup.compatibility == csm_search::Compatibility::Kratos
-    {
-        // Kratos' DirectCheck reads the ACTIVE flags its earlier candidates set, in the
-        // kd-tree's order, which a part's tree does not have; robust mode reads the flags
-        // from before the pairing (`docs/distributed.md`).
-        return refuse(
-            "`\"check_gap\": \"direct_check\"` in kratos mode (use \"compatibility\": \"robust\")",
-        );
-    }
     if pair.slaves.is_empty() {
         return refuse("roles decided automatically (give `assume_master_slave`)");
     }
@@ -183,6 +173,15 @@ fn rank_search(
     let slaves: Vec<&str> = pair.slaves.iter().map(String::as_str).collect();
     let contact: Vec<&str> = pair.parts.iter().map(String::as_str).collect();
     let reach = Reach::for_search_factor(pair.search.search_factor);
+    // Kratos' DirectCheck reads the ACTIVE flags its earlier candidates set, in the kd-tree's
+    // candidate order: the tree over every master gives each rank the one-process order.
+    let kratos_direct = pair.search.check_gap == csm_search::CheckGap::DirectCheck
+        && setup.compatibility == csm_search::Compatibility::Kratos;
+    let reach = if kratos_direct {
+        reach.with_every_master()
+    } else {
+        reach
+    };
     // With fewer slave conditions than ranks, the ranks past them search a copy of another
     // rank's part and own nothing: every rank takes part in every exchange.
     let (ranks, rank) = (transport.ranks(), transport.rank());

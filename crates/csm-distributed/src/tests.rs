@@ -47,6 +47,9 @@ fn search(
     (result, search.globals())
 }
 
+/// `search_parameters` for DirectCheck ([`setup_with`]).
+const DIRECT_CHECK: &str = r#", "check_gap": "direct_check""#;
+
 /// The CLI's default setup for the parts `Parts_Slave` and `Parts_Master` with the Simple or
 /// the Advanced activation, the search type `type_search` and the compatibility mode.
 fn test_setup(simple: bool, type_search: &str, compatibility: &str) -> SearchSetup {
@@ -151,6 +154,9 @@ fn a_distributed_search_gives_the_one_process_result() {
             ),
             (true, "in_box", "kratos", r#", "check_gap": "no_check""#),
             (true, "in_radius", "robust", r#", "check_gap": "no_check""#),
+            // Kratos' DirectCheck: every rank holds every master (`Reach::every_master`).
+            (false, "in_radius_with_obb", "kratos", DIRECT_CHECK),
+            (true, "in_box", "kratos", DIRECT_CHECK),
         ] {
             let setup = setup_with(simple, type_search, mode, more);
             let mut model = ModelPart::from_arrays("Structure", &mesh).expect("a model");
@@ -338,14 +344,6 @@ fn unsupported_setups_are_refused_with_a_reason() {
         "rank 0 of 2: a distributed run does not support `\"type_search\": \"octree_with_obb\"` \
          (use a kd-tree search type) yet"
     );
-    let direct = setup_with(
-        false,
-        "in_radius",
-        "kratos",
-        r#", "check_gap": "direct_check""#,
-    );
-    let err = on_threads(2, &mesh, &direct).expect_err("refused");
-    assert!(err.0.contains("\"compatibility\": \"robust\""), "{err}");
     let automatic = parse_setup(
         r#"{"contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]}}"#,
         "<setup>",
