@@ -472,6 +472,17 @@ fn search_on_ranks(
         }
         Err(message) => Err(csm::distributed::fail_rank(Arc::clone(&transport), message)),
     };
+    if let Err(e) = &outcome {
+        // Every rank prints the error, in one write (mpirun forwards the ranks' output
+        // together: a line written in pieces would interleave with the others'), then waits
+        // for the others to have printed theirs: mpirun stops the whole job at the first
+        // non-zero exit, which could cut a rank that had not printed yet.
+        let line = format!("error: {e}\n");
+        let _ = std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes());
+        transport.all_gather(&[]);
+        drop(transport);
+        std::process::exit(1);
+    }
     // The last handle: MPI is finalised here, before the process ends.
     drop(transport);
     let (result, times) = outcome.map_err(|e| e.to_string())?;

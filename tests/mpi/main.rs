@@ -327,6 +327,9 @@ fn bad_input_on_one_rank(mpirun: &Path) -> Vec<String> {
     if is_root() {
         cmd.arg("--allow-run-as-root");
     }
+    // mpirun would stop the job at the first rank's non-zero exit and may drop the output
+    // the other ranks' errors are still forwarding: let every rank end by itself.
+    cmd.args(["--mca", "orte_abort_on_non_zero_status", "0"]);
     // Three programs of one rank each, one world: `mpirun A : B : C`.
     for (k, mesh) in [&good, &missing, &good].into_iter().enumerate() {
         if k > 0 {
