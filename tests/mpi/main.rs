@@ -229,7 +229,12 @@ fn result_of(path: &Path) -> serde_json::Value {
     json
 }
 
-fn csm_search(runner: Option<(&Path, usize)>, args: &[&str]) -> Output {
+/// `csm search MESH --setup SETUP -o OUTPUT --quiet`, alone or under `mpirun` (`runner`:
+/// `mpirun` and the rank count).
+fn csm_search(
+    runner: Option<(&Path, usize)>,
+    (mesh, setup, output): (&Path, &Path, &Path),
+) -> Output {
     let mut cmd = match runner {
         Some((mpirun, ranks)) => {
             let mut cmd = Command::new(mpirun);
@@ -238,11 +243,17 @@ fn csm_search(runner: Option<(&Path, usize)>, args: &[&str]) -> Output {
         }
         None => Command::new(env!("CARGO_BIN_EXE_csm")),
     };
-    cmd.arg("search").args(args).output().expect("csm runs")
+    cmd.arg("search")
+        .arg(mesh)
+        .arg("--setup")
+        .arg(setup)
+        .arg("-o")
+        .arg(output)
+        .arg("--quiet")
+        .output()
+        .expect("csm runs")
 }
 
-/// `mpirun -np N csm search` writes the RESULT.json of `csm search` (but the timings) on the
-/// stability scenes, with the default setup of their parts and in robust mode.
 /// A directory of its own for one check, with `robust.json`: the scenes' parts, robust mode,
 /// the Advanced activation.
 fn work_dir(check: &str) -> (PathBuf, PathBuf) {
@@ -260,6 +271,8 @@ fn work_dir(check: &str) -> (PathBuf, PathBuf) {
     (dir, robust)
 }
 
+/// `mpirun -np N csm search` writes the RESULT.json of `csm search` (but the timings) on three
+/// of the stability scenes, in robust mode with the Advanced activation (`work_dir`).
 fn cli_scenes(mpirun: &Path) -> Vec<String> {
     let (dir, robust) = work_dir("scenes");
     let mut failed = Vec::new();
@@ -269,19 +282,8 @@ fn cli_scenes(mpirun: &Path) -> Vec<String> {
         "cylinder_on_block_2d.mdpa",
     ] {
         let mesh = root().join("tests/data/scenes").join(scene);
-        let mesh = mesh.to_str().expect("a UTF-8 path");
         let serial = dir.join("serial.json");
-        let out = csm_search(
-            None,
-            &[
-                mesh,
-                "--setup",
-                robust.to_str().unwrap(),
-                "-o",
-                serial.to_str().unwrap(),
-                "--quiet",
-            ],
-        );
+        let out = csm_search(None, (&mesh, &robust, &serial));
         assert!(
             out.status.success(),
             "{scene}: {}",
@@ -289,17 +291,7 @@ fn cli_scenes(mpirun: &Path) -> Vec<String> {
         );
         for ranks in [2, 3] {
             let got = dir.join(format!("ranks{ranks}.json"));
-            let out = csm_search(
-                Some((mpirun, ranks)),
-                &[
-                    mesh,
-                    "--setup",
-                    robust.to_str().unwrap(),
-                    "-o",
-                    got.to_str().unwrap(),
-                    "--quiet",
-                ],
-            );
+            let out = csm_search(Some((mpirun, ranks)), (&mesh, &robust, &got));
             if !out.status.success() {
                 failed.push(format!(
                     "{scene}, {ranks} ranks: {}",

@@ -302,24 +302,16 @@ pub(crate) fn merge(
 }
 
 /// Kratos' numbering of the conditions 1..N in id order, for the contact conditions whose id
-/// it changes (the conditions of the pairs' parts).
+/// it changes (the conditions of the pairs' parts), from the whole mesh.
 fn kratos_condition_ids(mesh: &MeshArrays, setup: &SearchSetup) -> BTreeMap<u32, u32> {
-    let mut all: Vec<u32> = mesh
-        .conditions
-        .values()
+    let all: Vec<u32> = (mesh.conditions.values())
         .flat_map(|a| a.ids.iter().copied())
         .collect();
-    all.sort_unstable();
     let contact: BTreeSet<u32> = (setup.pairs.values())
         .flat_map(|p| &p.parts)
         .filter_map(|name| mesh.parts.get(name))
         .flat_map(|p| p.conditions.iter().copied())
         .collect();
-    contact
-        .into_iter()
-        .filter_map(|id| {
-            let at = all.binary_search(&id).ok()? as u32 + 1;
-            (at != id).then_some((id, at))
-        })
-        .collect()
+    let contact: Vec<u32> = contact.into_iter().collect();
+    csm_search::kratos_renumbering(all, &contact)
 }

@@ -294,16 +294,23 @@ pub(super) fn skin_roles(model: &mut ModelPart, setup: &SearchSetup) {
 /// The conditions of `contact` whose id changes when every condition of the model is numbered
 /// 1..N in id order (Kratos' `ALMFastInit`), file id → new id.
 pub(super) fn kratos_condition_ids(model: &ModelPart, contact: PartIdx) -> BTreeMap<u32, u32> {
-    let mut all = model.conditions().ids().to_vec();
-    all.par_sort_unstable();
     let ids = model.conditions().ids();
+    let contact: Vec<u32> = (model.part(contact).conditions().iter())
+        .map(|c| ids[c.index()])
+        .collect();
+    kratos_renumbering(ids.to_vec(), &contact)
+}
+
+/// Kratos' `ALMFastInit` numbering of conditions: every condition of the model (`all`, the
+/// ids of every condition, each once) gets its position in id order plus one. The result
+/// holds the conditions of `contact` whose id that changes, file id → new id
+/// (`SearchResult::kratos_condition_ids`).
+pub fn kratos_renumbering(mut all: Vec<u32>, contact: &[u32]) -> BTreeMap<u32, u32> {
+    all.par_sort_unstable();
     // Ids are unique: the position is the new id minus one (looked up in parallel).
-    let renumbered: Vec<(u32, u32)> = model
-        .part(contact)
-        .conditions()
+    let renumbered: Vec<(u32, u32)> = contact
         .par_iter()
-        .filter_map(|c| {
-            let id = ids[c.index()];
+        .filter_map(|&id| {
             let at = all.binary_search(&id).ok()? as u32 + 1;
             (at != id).then_some((id, at))
         })

@@ -46,6 +46,7 @@ use crate::stages::{
 
 mod check_pairing;
 mod initialize;
+pub use initialize::kratos_renumbering;
 mod kdtree_path;
 mod mortar_conditions;
 mod outcome;
