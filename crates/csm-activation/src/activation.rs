@@ -2,6 +2,7 @@
 
 use csm_geometry::math::{EPS, Real, Vector};
 use csm_model::{Flag, ModelPart, PartIdx, ScalarVar, VectorVar};
+use rayon::prelude::*;
 
 use crate::multiplier::{
     MultiplierKind, MultiplierSettings, penalty, penalty_guess, predict_correct, regression,
@@ -109,7 +110,7 @@ pub fn compute_active_inactive_nodes(
     let nodes: Vec<_> = model
         .part(sub)
         .nodes()
-        .iter()
+        .par_iter()
         .copied()
         .filter(|n| model.nodes().flags()[n.index()].is(Flag::SLAVE) == o)
         .collect();
@@ -125,7 +126,7 @@ pub fn compute_active_inactive_nodes(
         let wg_old = data.scalar(ScalarVar::WeightedGap, 1);
         let flags = model.nodes().flags();
         nodes
-            .iter()
+            .par_iter()
             .map(|n| {
                 let i = n.index();
                 let g = gap.map_or(0.0, |c| c[i]);

@@ -82,9 +82,8 @@ pub fn compute_weighted_gap(
     // Summed in place: the sub's nodes start at zero, then every contribution in pair order.
     let mut isolated = Vec::with_capacity(pairs.len());
     model.with_scalar_mut(ScalarVar::WeightedGap, 0, |m, wg| {
-        for n in m.part(sub).nodes() {
-            wg[n.index()] = 0.0;
-        }
+        let nodes = m.part(sub).nodes();
+        csm_model::write_at_ascending(wg, nodes.len(), |k| nodes[k].index(), |_, w| *w = 0.0);
         for (&(sc, _), contribution) in pairs.iter().zip(&contributions) {
             // (No error is left: the first one was returned above.)
             debug_assert!(contribution.is_ok(), "an error reached the sums");

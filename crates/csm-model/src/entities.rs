@@ -241,7 +241,12 @@ impl Entities {
     /// Dense indices in Kratos' container order: ascending external id.
     pub fn indices_by_id(&self) -> Vec<usize> {
         use rayon::prelude::*;
-        let mut order: Vec<usize> = (0..self.ids.len()).collect();
+        let mut order: Vec<usize> = (0..self.ids.len()).into_par_iter().collect();
+        // A mesh written in id order (the usual case) is in that order already: checked in
+        // parallel, no sort.
+        if self.ids.par_windows(2).all(|w| w[0] < w[1]) {
+            return order;
+        }
         // Ids are unique: one order, whatever the sort (in parallel on rayon's pool).
         order.par_sort_unstable_by_key(|&i| self.ids[i]);
         order

@@ -34,6 +34,7 @@ mod parts;
 mod process_info;
 mod properties;
 mod time_step;
+mod write_at;
 
 pub use arrays::{EntityArrays, MeshArrays, PartArrays};
 pub use collective::{Aborted, Ranks, Transport};
@@ -46,7 +47,7 @@ pub use ids::{
 };
 pub use index_map::IndexMap;
 pub use model_part::{GeometryStamp, ModelPart};
-pub use nodal_data::{NodalData, ScalarVar, VectorVar};
+pub use nodal_data::{NodalData, ScalarVar, VectorVar, zero_vectors};
 pub use nodal_h::{NodalHMode, assign_nodal_h, compute_nodal_h};
 pub use normals::{
     FaceNormals, FaceNormalsRef, KeptFaceNormals, KeptPositions, NormalsMode, UnitNormalsSnapshot,
@@ -56,3 +57,4 @@ pub use normals::{
 pub use parts::SubModelPart;
 pub use process_info::ProcessInfo;
 pub use properties::{Properties, PropertyValue};
+pub use write_at::write_at_ascending;

@@ -427,10 +427,13 @@ impl ModelPart {
         target.connectivity.truncate(start + added * n);
         target.extend_added(added, kind, name, records, width);
         if conditions {
+            // Written in parallel (fresh memory: its first touch is much of the cost).
+            let new = self.index_maps.len()..self.conditions.len();
             self.index_maps
-                .resize_with(self.conditions.len(), IndexMap::new);
+                .par_extend(new.into_par_iter().map(|_| IndexMap::new()));
+            let new = self.condition_normals.len()..self.conditions.len();
             self.condition_normals
-                .resize(self.conditions.len(), Vector::zeros());
+                .par_extend(new.into_par_iter().map(|_| Vector::zeros()));
         }
         if let Some((k, e)) = refused {
             return Err((k, e.into()));

@@ -9,6 +9,14 @@
 use std::collections::BTreeMap;
 
 use csm_geometry::math::{Real, Vector};
+use rayon::prelude::*;
+
+/// `n` zero vectors, written in parallel on rayon's pool: `vec![Vector::zeros(); n]` writes
+/// every value (a vector is no plain zero to the allocator) on one thread, and the first
+/// touch of each fresh page with it.
+pub fn zero_vectors(n: usize) -> Vec<Vector> {
+    (0..n).into_par_iter().map(|_| Vector::zeros()).collect()
+}
 
 /// Scalar nodal variables the pipeline uses, named as in Kratos.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -125,8 +133,10 @@ impl NodalData {
 
     /// Adds `var` with `steps` zero columns.
     fn insert_vector(&mut self, var: VectorVar, steps: usize) {
-        self.vectors
-            .insert(var, vec![vec![Vector::zeros(); self.n_nodes]; steps]);
+        self.vectors.insert(
+            var,
+            (0..steps).map(|_| zero_vectors(self.n_nodes)).collect(),
+        );
         self.renew(var);
     }
 
@@ -225,7 +235,7 @@ impl NodalData {
         let steps = Self::steps_of(var.is_historical());
         let columns = self.vectors.entry(var).or_insert_with(|| {
             let mut columns = vec![Vec::new()];
-            columns.resize_with(steps, || vec![Vector::zeros(); n]);
+            columns.resize_with(steps, || zero_vectors(n));
             columns
         });
         columns[0] = values;

@@ -43,11 +43,14 @@ pub fn compute_nodal_h(model: &ModelPart, part: Option<PartIdx>, mode: NodalHMod
 const PARALLEL_MIN_ELEMENTS: usize = 1 << 14;
 /// The most per-worker arrays of the parallel minima (each holds every node's value).
 const MAX_PARTIAL_ARRAYS: usize = 4;
+/// Elements per chunk the workers of the parallel minima take in turn.
+const ELEMENTS_PER_CHUNK: usize = 4096;
 
 /// [`compute_nodal_h`]; the minima of [`NodalHMode::Kratos`] and [`NodalHMode::MinimumEdge`]
 /// are taken over element chunks in parallel from `parallel_min` elements on (one array per
-/// chunk, at most [`MAX_PARTIAL_ARRAYS`] chunks, then the element-wise minimum: a minimum of
-/// the same distances in any grouping is the same value), [`NodalHMode::StaleRead`] in
+/// worker, at most [`MAX_PARTIAL_ARRAYS`], each taking chunks of [`ELEMENTS_PER_CHUNK`] in
+/// turn; then the element-wise minimum: a minimum of the same distances in any grouping is
+/// the same value), [`NodalHMode::StaleRead`] in
 /// element order.
 fn compute_nodal_h_with(
     model: &ModelPart,
@@ -68,17 +71,30 @@ fn compute_nodal_h_with(
         }
         return h;
     }
-    // At most `MAX_PARTIAL_ARRAYS` arrays of `n_nodes` values at once, whatever the pool.
-    let chunk = order.len().div_ceil(workers.min(MAX_PARTIAL_ARRAYS));
-    let mut partial: Vec<Vec<Real>> = order
-        .par_chunks(chunk)
-        .map(|elements| {
-            let mut h = vec![Real::MAX; n_nodes];
-            for &e in elements {
-                lower_nodal_h(model, e, mode, &mut h);
+    // At most `MAX_PARTIAL_ARRAYS` arrays of `n_nodes` values at once, whatever the pool;
+    // each array's task takes chunks of elements from a shared counter until none is left, so
+    // a thread slowed down (or busy elsewhere) takes fewer chunks instead of holding the
+    // others up.
+    let arrays = workers.min(MAX_PARTIAL_ARRAYS);
+    let chunks: Vec<&[usize]> = order.chunks(ELEMENTS_PER_CHUNK).collect();
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let mut partial: Vec<Vec<Real>> = (0..arrays)
+        .into_par_iter()
+        .map(|_| {
+            let mut h: Option<Vec<Real>> = None;
+            loop {
+                let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let Some(elements) = chunks.get(k) else {
+                    break;
+                };
+                let h = h.get_or_insert_with(|| vec![Real::MAX; n_nodes]);
+                for &e in *elements {
+                    lower_nodal_h(model, e, mode, h);
+                }
             }
             h
         })
+        .flatten()
         .collect();
     let mut h = partial.swap_remove(0);
     for other in &partial {

@@ -312,7 +312,7 @@ pub(super) fn solve_relative(
 ) -> (Vec<Real>, Vec<Option<Vector>>) {
     let store = OperatorStore::Relative { dim };
     let mut area = vec![0.0; n_slaves];
-    let mut moment = vec![Vector::zeros(); n_slaves];
+    let mut moment = csm_model::zero_vectors(n_slaves);
     for (sc, _, packed) in kept_pairs(m, per_slave, store) {
         let slave_nodes = m.conditions().nodes(sc.index());
         let ns = slave_nodes.len();

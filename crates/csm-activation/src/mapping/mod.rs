@@ -21,7 +21,7 @@ use csm_geometry::math::{EPS, Real, Vector, norm_kratos};
 use csm_geometry::{LargestArea, MortarMode, OperatorSettings, SegmentationSettings};
 use csm_model::{
     ConditionId, ConditionIdx, Flag, GATHER_BLOCK, GatheredPoints, KeptFaceNormals, ModelPart,
-    PartIdx, Ranks, ScalarVar, VectorVar,
+    PartIdx, Ranks, ScalarVar, VectorVar, write_at_ascending,
 };
 
 use rayon::prelude::*;
@@ -287,9 +287,8 @@ fn normal_gap_process_inner(
         // AUXILIAR_COORDINATES: computed below and moved in at the end (no column of zeros
         // to write first and copy into afterwards).
         if let Some(col) = data.scalar_mut(ScalarVar::NormalGap, 0) {
-            for n in &sub_nodes {
-                col[n.index()] = NORMAL_GAP_SENTINEL;
-            }
+            let at = |k: usize| sub_nodes[k].index();
+            write_at_ascending(col, sub_nodes.len(), at, |_, g| *g = NORMAL_GAP_SENTINEL);
         }
     }
     // 2. Mean normals: origin (master side) first, destination (slave side) second.
@@ -312,11 +311,13 @@ fn normal_gap_process_inner(
     let coords = model.nodes().coordinates();
     let (master_side, slave_side) = (1u8, 2u8);
     let mut side = vec![0u8; n_nodes];
-    for n in &s.master_nodes {
-        side[n.index()] |= master_side;
-    }
-    for n in &s.slave_nodes {
-        side[n.index()] |= slave_side;
+    for (nodes, mark) in [(&s.master_nodes, master_side), (&s.slave_nodes, slave_side)] {
+        write_at_ascending(
+            &mut side,
+            nodes.len(),
+            |k| nodes[k].index(),
+            |_, v| *v |= mark,
+        );
     }
     let before = model.nodal_data().vector(VectorVar::AuxiliarCoordinates, 0);
     let mut aux: Vec<Vector> = (0..n_nodes)
@@ -503,7 +504,7 @@ fn normal_gap_process_inner(
         let nflags = model.nodes().flags();
         let coords = model.nodes().coordinates();
         s.master_nodes
-            .iter()
+            .par_iter()
             .chain(&s.slave_nodes)
             .filter_map(|n| {
                 let i = n.index();
@@ -528,9 +529,8 @@ fn normal_gap_process_inner(
         }
     }
     if let Some(col) = data.scalar_mut(ScalarVar::NodalArea, 0) {
-        for (j, n) in s.slave_nodes.iter().enumerate() {
-            col[n.index()] = area[j];
-        }
+        let at = |j: usize| s.slave_nodes[j].index();
+        write_at_ascending(col, s.slave_nodes.len(), at, |j, a| *a = area[j]);
     }
     data.set_vector(VectorVar::AuxiliarCoordinates, aux)
         .map_err(|_| Error::message_only("AUXILIAR_COORDINATES: not one value per node".into()))?;

@@ -106,9 +106,11 @@ impl SlavePositions {
 
     pub(crate) fn new(s: &Sides, n_nodes: usize) -> SlavePositions {
         let mut positions = vec![SlavePositions::NONE; n_nodes];
-        for (j, n) in s.slave_nodes.iter().enumerate() {
-            positions[n.index()] = u32::try_from(j).expect("node positions fit u32");
-        }
+        // (Positions below `n_nodes`, which a u32 index holds.)
+        let at = |j: usize| s.slave_nodes[j].index();
+        csm_model::write_at_ascending(&mut positions, s.slave_nodes.len(), at, |j, p| {
+            *p = j as u32;
+        });
         SlavePositions(positions)
     }
 

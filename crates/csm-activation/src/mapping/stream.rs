@@ -30,8 +30,8 @@ impl FirstIterations {
     pub(super) fn zeros(n_slaves: usize) -> FirstIterations {
         FirstIterations {
             vaux: [
-                vec![Vector::zeros(); n_slaves],
-                vec![Vector::zeros(); n_slaves],
+                csm_model::zero_vectors(n_slaves),
+                csm_model::zero_vectors(n_slaves),
             ],
             area: vec![0.0; n_slaves],
             gaps: Vec::new(),

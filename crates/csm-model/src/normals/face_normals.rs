@@ -95,7 +95,7 @@ impl FaceNormals {
     /// face order, as a serial loop adds them.
     pub fn nodal_sums(&self, model: &ModelPart) -> (Vec<Vector>, Vec<u32>) {
         let n_nodes = model.nodes().len();
-        let (mut sums, mut count) = (vec![Vector::zeros(); n_nodes], vec![0u32; n_nodes]);
+        let (mut sums, mut count) = (crate::zero_vectors(n_nodes), vec![0u32; n_nodes]);
         self.nodal_sums_into(model, &mut sums, &mut count);
         (sums, count)
     }
@@ -158,7 +158,7 @@ impl FaceNormals {
     /// blocked sums reproduce; used for tables too large for their references).
     pub fn nodal_sums_serial(&self, model: &ModelPart) -> (Vec<Vector>, Vec<u32>) {
         let n_nodes = model.nodes().len();
-        let (mut sums, mut count) = (vec![Vector::zeros(); n_nodes], vec![0u32; n_nodes]);
+        let (mut sums, mut count) = (crate::zero_vectors(n_nodes), vec![0u32; n_nodes]);
         self.nodal_sums_serial_into(model, &mut sums, &mut count);
         (sums, count)
     }

@@ -50,6 +50,7 @@ pub(super) fn conditions_of(model: &ModelPart, part: Option<PartIdx>) -> Vec<Con
     match part {
         Some(p) => model.part(p).conditions().to_vec(),
         None => (0..model.conditions().len() as u32)
+            .into_par_iter()
             .map(ConditionIdx)
             .collect(),
     }
@@ -87,7 +88,7 @@ pub fn face_unit_normals(
         .collect();
     // Centres and per-face counts of nodal normals written in place; the nodal normals of
     // the (few) non-affine faces per task, joined afterwards.
-    let mut centres = vec![Vector::zeros(); faces.len()];
+    let mut centres = crate::zero_vectors(faces.len());
     let mut ends = vec![0u32; faces.len()];
     let chunks: Vec<Result<Vec<Vector>, Error>> = faces
         .par_chunks(FACES_PER_TASK)
@@ -216,7 +217,7 @@ pub fn compute_unit_normals_from_kept(
         return Ok(false);
     };
     let n_nodes = model.nodes().len();
-    let mut sums = (vec![Vector::zeros(); n_nodes], vec![0u32; n_nodes]);
+    let mut sums = (crate::zero_vectors(n_nodes), vec![0u32; n_nodes]);
     if !positions.nodal_sums_into(model, (&conditions, None), (&mut sums.0, &mut sums.1)) {
         return Ok(false);
     }
@@ -294,21 +295,31 @@ pub(super) fn write_nodal_normals(
     conditions: &[ConditionIdx],
     (nodal, count): (Vec<Vector>, Vec<u32>),
 ) {
+    use std::sync::atomic::{AtomicBool, Ordering};
     let n_nodes = model.nodes().len();
-    let mut reset = vec![false; n_nodes];
-    for &c in conditions {
+    // Marked in parallel: every mark is `true`, so the order of the writes does not matter.
+    let reset: Vec<AtomicBool> = (0..n_nodes)
+        .into_par_iter()
+        .map(|_| AtomicBool::new(false))
+        .collect();
+    conditions.par_iter().for_each(|&c| {
         for n in model.conditions().nodes(c.index()) {
-            reset[n.index()] = true;
+            reset[n.index()].store(true, Ordering::Relaxed);
         }
-    }
+    });
     if let Some(column) = model.nodal_data_mut().vector_mut(VectorVar::Normal, 0) {
-        for i in (0..n_nodes).filter(|&i| reset[i]) {
-            column[i] = if count[i] > 0 {
-                nodal[i]
-            } else {
-                Vector::zeros()
-            };
-        }
+        column
+            .par_iter_mut()
+            .zip(&reset)
+            .enumerate()
+            .filter(|(_, (_, r))| r.load(Ordering::Relaxed))
+            .for_each(|(i, (v, _))| {
+                *v = if count[i] > 0 {
+                    nodal[i]
+                } else {
+                    Vector::zeros()
+                };
+            });
     }
 }
 

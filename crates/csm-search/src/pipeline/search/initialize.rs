@@ -185,14 +185,10 @@ impl ContactSearch {
                 let nodes = model.part(sub).nodes().to_vec();
                 model.nodal_data_mut().add_scalar(ScalarVar::NormalGap);
                 if let Some(col) = model.nodal_data_mut().scalar_mut(ScalarVar::NormalGap, 0) {
-                    for n in nodes {
-                        col[n.index()] = 0.0;
-                    }
+                    write_at_ascending(col, nodes.len(), |k| nodes[k].index(), |_, g| *g = 0.0);
                 }
             }
-            for c in model.part(sub).conditions().to_vec() {
-                model.conditions_mut().flags_mut()[c.index()].set(Flag::ACTIVE, false);
-            }
+            set_flag_on(model, sub, Flag::ACTIVE, false);
             // Roles not predefined and no MASTER flag (the contact parts had conditions of
             // their own, to which Kratos gives no role): robust mode makes every condition a
             // candidate master, the self-contact pre-search then decides the roles (§12).
@@ -201,19 +197,17 @@ impl ContactSearch {
                 && model
                     .part(sub)
                     .conditions()
-                    .iter()
+                    .par_iter()
                     .all(|c| !model.conditions().flags()[c.index()].is(Flag::MASTER));
             if unflagged && setup.compatibility == Compatibility::Robust {
-                for c in model.part(sub).conditions().to_vec() {
-                    model.conditions_mut().flags_mut()[c.index()].set(Flag::MASTER, true);
-                }
+                set_flag_on(model, sub, Flag::MASTER, true);
             }
             // CreatePointListMortar (§4.2): must not be empty.
             let check = !params.inverted_search || !params.predefined_master_slave;
             let has_points = model
                 .part(sub)
                 .conditions()
-                .iter()
+                .par_iter()
                 .any(|c| model.conditions().flags()[c.index()].is(Flag::MASTER) == check);
             if !has_points {
                 return Err(ErrorKind::RejectedByKratos(format!(
@@ -261,6 +255,15 @@ impl ContactSearch {
             tuning: SearchTuning::default(),
         })
     }
+}
+
+/// Sets `flag` to `value` on every condition of `part` (in parallel: the part lists its
+/// conditions in ascending index).
+pub(super) fn set_flag_on(model: &mut ModelPart, part: PartIdx, flag: Flag, value: bool) {
+    let conditions = model.part(part).conditions().to_vec();
+    let flags = model.conditions_mut().flags_mut();
+    let at = |k: usize| conditions[k].index();
+    write_at_ascending(flags, conditions.len(), at, |_, f| f.set(flag, value));
 }
 
 /// Robust skin detection with predefined roles: the skin conditions are all MASTER after the

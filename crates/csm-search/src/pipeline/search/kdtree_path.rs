@@ -39,7 +39,7 @@ pub(super) fn kdtree_search(
     let master_list: Vec<u32> = match points {
         Some(list) => list,
         None => conditions
-            .iter()
+            .par_iter()
             .filter(|c| flags[c.index()].is(Flag::MASTER) == check)
             .map(|c| c.get())
             .collect(),
@@ -91,9 +91,10 @@ pub(super) fn kdtree_search(
     let hmax = match pair.globals.largest_nodal_h {
         Some(h) => h,
         None => {
-            let here = (model.part(sub).nodes().iter())
+            // (A maximum in any grouping is the serial one.)
+            let here = (model.part(sub).nodes().par_iter())
                 .map(|n| h_col[n.index()])
-                .fold(0.0, Real::max);
+                .reduce(|| 0.0, Real::max);
             // Every held contact node's NODAL_H is whole (its elements are held): the
             // largest of the ranks' is the whole problem's.
             match &pair.ranks {
@@ -114,7 +115,7 @@ pub(super) fn kdtree_search(
     // anywhere (the conditions' own order need not be spatial).
     let masters: Vec<ConditionIdx> = tree
         .stored_items()
-        .iter()
+        .par_iter()
         .map(|&c| ConditionIdx(c))
         .collect();
     // Built when first asked for by a query, which holds the model: both are dropped before
@@ -137,7 +138,7 @@ pub(super) fn kdtree_search(
         PerMaster::none()
     };
     let slaves: Vec<ConditionIdx> = conditions
-        .iter()
+        .par_iter()
         .copied()
         .filter(|c| {
             let f = model.conditions().flags()[c.index()];

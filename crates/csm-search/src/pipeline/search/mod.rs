@@ -10,7 +10,7 @@ use csm_geometry::{Geometry, Kdop18};
 use csm_model::{
     ConditionId, ConditionIdx, Flag, KeptFaceNormals, ModelPart, NodalHMode, NodeIdx, NormalsMode,
     PartIdx, ScalarVar, UnitNormalsSnapshot, VectorVar, assign_nodal_h, compute_unit_normals,
-    compute_unit_normals_from_kept,
+    compute_unit_normals_from_kept, write_at_ascending,
 };
 use csm_trees::KdTree;
 use rayon::prelude::*;
@@ -407,12 +407,8 @@ impl ContactSearch {
         } else {
             // (The stage trace starts here: no pair stage ran.)
             crate::trace::start();
-            for n in model.part(contact).nodes().to_vec() {
-                model.nodes_mut().flags_mut()[n.index()].set(Flag::ACTIVE, false);
-            }
-            for c in model.part(contact).conditions().to_vec() {
-                model.conditions_mut().flags_mut()[c.index()].set(Flag::ACTIVE, false);
-            }
+            set_node_flag_on(model, contact, Flag::ACTIVE, false);
+            initialize::set_flag_on(model, contact, Flag::ACTIVE, false);
         }
         let result = self.result(model);
         crate::trace::mark("result");
@@ -463,10 +459,17 @@ impl ContactSearch {
     }
 
     fn reset_marker(&self, model: &mut ModelPart) {
-        for n in model.part(self.parts.contact).nodes().to_vec() {
-            model.nodes_mut().flags_mut()[n.index()].set(Flag::MARKER, false);
-        }
+        set_node_flag_on(model, self.parts.contact, Flag::MARKER, false);
     }
+}
+
+/// Sets `flag` to `value` on every node of `part` (in parallel: the part lists its nodes in
+/// ascending index).
+fn set_node_flag_on(model: &mut ModelPart, part: PartIdx, flag: Flag, value: bool) {
+    let nodes = model.part(part).nodes().to_vec();
+    let flags = model.nodes_mut().flags_mut();
+    let at = |k: usize| nodes[k].index();
+    write_at_ascending(flags, nodes.len(), at, |_, f| f.set(flag, value));
 }
 
 /// Points an error about a setup value (e.g. an unknown part name) at the setup file's line.

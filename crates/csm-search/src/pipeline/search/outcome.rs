@@ -1,5 +1,7 @@
 //! The RESULT.json content of the current state (`ContactSearch::result`).
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use super::*;
 
 impl ContactSearch {
@@ -16,8 +18,12 @@ impl ContactSearch {
             let inverted = pair.params.inverted_search;
             // Collected in vectors and bulk-built into the maps (sorted input: no per-entry
             // tree insertion).
-            // The slave side's nodes, by node index (no sort of every face's nodes).
-            let mut on_slave_side = vec![false; model.nodes().len()];
+            // The slave side's nodes, by node index (no sort of every face's nodes), marked in
+            // parallel (every mark is `true`: the order of the writes does not matter).
+            let on_slave_side: Vec<AtomicBool> = (0..model.nodes().len())
+                .into_par_iter()
+                .map(|_| AtomicBool::new(false))
+                .collect();
             let gaps = if pair.params.check_gap == CheckGap::MappingCheck {
                 model.nodal_data().scalar(ScalarVar::NormalGap, 0)
             } else {
@@ -36,18 +42,18 @@ impl ContactSearch {
                     (ids[c.index()], masters.collect())
                 })
                 .collect();
-            for c in conditions.iter().filter(|c| is_slave(c)) {
+            conditions.par_iter().filter(|c| is_slave(c)).for_each(|c| {
                 for n in model.conditions().nodes(c.index()) {
-                    on_slave_side[n.index()] = true;
+                    on_slave_side[n.index()].store(true, Ordering::Relaxed);
                 }
-            }
+            });
             // A part's conditions are duplicate-free, so each id comes once.
             slaves.par_sort_unstable_by_key(|(id, _)| *id);
             let slaves: std::collections::BTreeMap<u32, Vec<u32>> = slaves.into_iter().collect();
             let node_flags = model.nodes().flags();
             let mut node_results: Vec<(u32, NodeResult)> = (0..on_slave_side.len())
                 .into_par_iter()
-                .filter(|&i| on_slave_side[i])
+                .filter(|&i| on_slave_side[i].load(Ordering::Relaxed))
                 .map(|i| {
                     // NORMAL_GAP is never written by No/DirectCheck (null); MappingCheck's
                     // 1e12 "not mapped" sentinel is null too.

@@ -1,0 +1,119 @@
+//! Parallel writes at ascending positions of an array ([`write_at_ascending`]): the scatter
+//! of a part's values (its nodes and conditions are listed in ascending dense index) into a
+//! column of the whole model, without a serial pass.
+
+use rayon::prelude::*;
+
+/// Items below which [`write_at_ascending`] writes on one thread.
+const SERIAL_ITEMS: usize = 1 << 12;
+
+/// Calls `write(k, &mut target[at(k)])` for every `k` in `0..n`, in parallel on rayon's pool
+/// where the positions `at(0) < at(1) < …` ascend (the target is cut between them, so each
+/// task owns its piece), else in order on one thread. Each position is written once, by its
+/// own `k`: the result does not depend on the order, and is that of the loop
+/// `for k in 0..n { write(k, &mut target[at(k)]) }`.
+///
+/// Panics where a position is out of `target` (as the loop would).
+pub fn write_at_ascending<T: Send>(
+    target: &mut [T],
+    n: usize,
+    at: impl Fn(usize) -> usize + Sync,
+    write: impl Fn(usize, &mut T) + Sync,
+) {
+    let ascending = n < SERIAL_ITEMS || (1..n).into_par_iter().all(|k| at(k - 1) < at(k));
+    if n < SERIAL_ITEMS || !ascending || rayon::current_num_threads() < 2 {
+        for k in 0..n {
+            write(k, &mut target[at(k)]);
+        }
+        return;
+    }
+    split_writes(target, (0, 0..n), &at, &write);
+}
+
+/// [`write_at_ascending`] of the items `items` into `target`, the piece of the whole array
+/// that starts at position `offset`.
+fn split_writes<T: Send>(
+    target: &mut [T],
+    (offset, items): (usize, std::ops::Range<usize>),
+    at: &(impl Fn(usize) -> usize + Sync),
+    write: &(impl Fn(usize, &mut T) + Sync),
+) {
+    if items.len() <= SERIAL_ITEMS {
+        for k in items {
+            write(k, &mut target[at(k) - offset]);
+        }
+        return;
+    }
+    let mid = items.start + items.len() / 2;
+    // Every item before `mid` is below `at(mid)`, every other at or above it.
+    let cut = (at(mid) - offset).min(target.len());
+    let (low, high) = target.split_at_mut(cut);
+    rayon::join(
+        || split_writes(low, (offset, items.start..mid), at, write),
+        || split_writes(high, (offset + cut, mid..items.end), at, write),
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The serial loop: the oracle.
+    fn serial(len: usize, positions: &[usize]) -> Vec<u64> {
+        let mut v = vec![0u64; len];
+        for (k, &p) in positions.iter().enumerate() {
+            v[p] = v[p] * 31 + k as u64 + 1;
+        }
+        v
+    }
+
+    fn parallel(len: usize, positions: &[usize], threads: usize) -> Vec<u64> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut v = vec![0u64; len];
+        pool.install(|| {
+            write_at_ascending(
+                &mut v,
+                positions.len(),
+                |k| positions[k],
+                |k, x| *x = *x * 31 + k as u64 + 1,
+            );
+        });
+        v
+    }
+
+    #[test]
+    fn ascending_positions_get_the_loops_values_on_any_pool() {
+        // Every third position of a large array, and a dense run at its end.
+        let mut positions: Vec<usize> = (0..40_000).map(|k| 3 * k + 1).collect();
+        positions.extend(120_000..130_000);
+        for threads in [1, 2, 3] {
+            assert_eq!(
+                parallel(130_001, &positions, threads),
+                serial(130_001, &positions)
+            );
+        }
+    }
+
+    #[test]
+    fn positions_out_of_order_or_repeated_fall_back_to_the_loop() {
+        // Repeated positions: the loop's last-wins-after-combining order matters here.
+        let mut positions: Vec<usize> = (0..20_000).map(|k| (k * 7919) % 10_007).collect();
+        positions.extend(0..5_000);
+        for threads in [1, 2] {
+            assert_eq!(
+                parallel(10_007, &positions, threads),
+                serial(10_007, &positions)
+            );
+        }
+    }
+
+    #[test]
+    #[should_panic]
+    fn a_position_past_the_end_panics_as_the_loop_does() {
+        let positions: Vec<usize> = (0..10_000).map(|k| 2 * k).collect();
+        parallel(15_000, &positions, 2);
+    }
+}
