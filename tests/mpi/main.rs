@@ -102,7 +102,8 @@ struct Fixture {
     setup: String,
 }
 
-/// Every search fixture whose mesh is here, by name.
+/// Every search fixture whose mesh is here, by name; each octree fixture (Kratos' setups
+/// are kratos mode, which a distributed run refuses for the octree) also in robust mode.
 fn fixtures() -> Vec<Fixture> {
     let dir = root().join("tests/fixtures/search");
     let mut files = Vec::new();
@@ -125,13 +126,29 @@ fn fixtures() -> Vec<Fixture> {
             let text = std::fs::read_to_string(&f).expect("a fixture reads");
             let json: serde_json::Value = serde_json::from_str(&text).expect("a fixture parses");
             let mesh = root().join(json.get("mesh")?.as_str()?);
-            let setup = json.get("setup")?.to_string();
-            mesh.is_file().then(|| Fixture {
-                name: f.strip_prefix(&dir).unwrap_or(&f).display().to_string(),
-                mesh,
-                setup,
-            })
+            let setup = json.get("setup")?;
+            let name = f.strip_prefix(&dir).unwrap_or(&f).display().to_string();
+            let mut robust = setup.clone();
+            let octree = setup.pointer("/search_parameters/type_search")
+                == Some(&serde_json::json!("octree_with_obb"));
+            let robust =
+                (octree && setup.get("compatibility").is_none_or(|c| c == "kratos")).then(|| {
+                    robust["compatibility"] = serde_json::json!("robust");
+                    Fixture {
+                        name: format!("{name} (robust)"),
+                        mesh: mesh.clone(),
+                        setup: robust.to_string(),
+                    }
+                });
+            let kratos = Fixture {
+                name,
+                mesh: mesh.clone(),
+                setup: setup.to_string(),
+            };
+            mesh.is_file().then_some([Some(kratos), robust])
         })
+        .flatten()
+        .flatten()
         .collect()
 }
 

@@ -116,9 +116,11 @@ fn bisect(
 pub struct Reach {
     /// Slave radii.
     pub factor: f64,
-    /// Every rank holds every master condition, whatever the distance: for a search whose
-    /// result depends on the kd-tree over all the masters (Kratos' DirectCheck reads the
-    /// ACTIVE flags its earlier candidates set, in the tree's candidate order).
+    /// Every rank holds every master condition, whatever the distance, and every node of the
+    /// contact parts on no contact condition: for a search whose result depends on a tree
+    /// over all the masters (Kratos' DirectCheck reads the ACTIVE flags its earlier
+    /// candidates set, in the kd-tree's candidate order; the octree is refined around every
+    /// master-side node).
     pub every_master: bool,
 }
 
@@ -353,7 +355,11 @@ fn parts_of(
         }
         // The contact parts' nodes on no contact condition that this rank holds for the
         // largest and the mean NODAL_H (they count there as in the one-process run).
-        for (&n, _) in loose.iter().zip(&loose_owner).filter(|(_, o)| **o == rank) {
+        // Holding every master, a rank holds every such node too (the octree is refined
+        // around every master-side node).
+        for (&n, _) in
+            (loose.iter().zip(&loose_owner)).filter(|(_, o)| reach.every_master || **o == rank)
+        {
             contact_node[n as usize] = true;
         }
         // 3. The elements around the contact nodes, two layers deep (the normal check's probe

@@ -66,10 +66,16 @@ pub fn distributed_pair(setup: &SearchSetup) -> Result<(u32, &PairSetup), String
         return refuse("`adapt_search`");
     }
     let (&key, pair) = setup.pairs.iter().next().expect("one pair");
-    if pair.search.type_search == csm_search::SearchTreeType::OctreeWithObb {
-        // Its leaves, and so its candidates, depend on every condition of the mesh: a part
-        // builds other leaves (`docs/distributed.md`).
-        return refuse("`\"type_search\": \"octree_with_obb\"` (use a kd-tree search type)");
+    if pair.search.type_search == csm_search::SearchTreeType::OctreeWithObb
+        && setup.compatibility == csm_search::Compatibility::Kratos
+    {
+        // Kratos' loop carries SELECTED flags from condition to condition in id order: a
+        // master still SELECTED by an earlier slave pairs with the SELECTED masters of its
+        // leaves (Q14), so a pair depends on slaves anywhere before it (`docs/distributed.md`).
+        return refuse(
+            "`\"type_search\": \"octree_with_obb\"` in kratos mode (use \"compatibility\": \
+             \"robust\" or a kd-tree search type)",
+        );
     }
     if pair.slaves.is_empty() {
         return refuse("roles decided automatically (give `assume_master_slave`)");
@@ -177,7 +183,10 @@ fn rank_search(
     // candidate order: the tree over every master gives each rank the one-process order.
     let kratos_direct = pair.search.check_gap == csm_search::CheckGap::DirectCheck
         && setup.compatibility == csm_search::Compatibility::Kratos;
-    let reach = if kratos_direct {
+    // The octree is refined around every master node and holds every master condition: with
+    // all of them (and the ranks' common root box) each rank builds the one-process octree.
+    let octree = pair.search.type_search == csm_search::SearchTreeType::OctreeWithObb;
+    let reach = if kratos_direct || octree {
         reach.with_every_master()
     } else {
         reach

@@ -157,6 +157,14 @@ fn a_distributed_search_gives_the_one_process_result() {
             // Kratos' DirectCheck: every rank holds every master (`Reach::every_master`).
             (false, "in_radius_with_obb", "kratos", DIRECT_CHECK),
             (true, "in_box", "kratos", DIRECT_CHECK),
+            // The octree (robust mode): every master and the ranks' common root box.
+            (false, "octree_with_obb", "robust", ""),
+            (
+                true,
+                "octree_with_obb",
+                "robust",
+                r#", "check_gap": "no_check""#,
+            ),
         ] {
             let setup = setup_with(simple, type_search, mode, more);
             let mut model = ModelPart::from_arrays("Structure", &mesh).expect("a model");
@@ -194,6 +202,50 @@ fn a_distributed_search_gives_the_one_process_result() {
             }
         }
     }
+}
+
+/// Robust mode's octree on ranks, with the plate as the slave side (each rank's slaves cover
+/// a piece of it only): the one-process result on 2 to 4 ranks. (Its pairs are those whose
+/// boxes meet, whatever the leaves; the ranks still build the one-process octree, with
+/// every master and the common root box, so that the candidates come in its order too.)
+#[test]
+fn robust_octree_on_ranks_gives_the_one_process_result() {
+    let mesh = scene("sphere_on_plate_tri.mdpa");
+    for more in ["", r#", "check_gap": "no_check""#] {
+        let text = format!(
+            r#"{{"contact_model_part": {{"0": ["Parts_Slave", "Parts_Master"]}},
+                "assume_master_slave": {{"0": ["Parts_Master"]}},
+                "compatibility": "robust",
+                "search_parameters": {{"type_search": "octree_with_obb"{more}}}}}"#
+        );
+        let setup = parse_setup(&text, "<test setup>").expect("the setup parses");
+        let mut model = ModelPart::from_arrays("Structure", &mesh).expect("a model");
+        let serial = (ContactSearch::initialize(&mut model, &setup))
+            .and_then(|mut s| s.step(&mut model))
+            .expect("the one-process search");
+        assert!(
+            !serial.pairs["0"].values().all(Vec::is_empty),
+            "pairs found"
+        );
+        for ranks in 2..=4 {
+            let got = on_threads(ranks, &mesh, &setup).expect("the distributed search");
+            assert_eq!(got, serial, "{ranks} ranks{more}");
+        }
+    }
+}
+
+/// Kratos' octree (its SELECTED flags carried from condition to condition) is refused, with
+/// the way out.
+#[test]
+fn kratos_modes_octree_is_refused_on_every_rank() {
+    let mesh = scene("stacked_blocks.mdpa");
+    let setup = test_setup(false, "octree_with_obb", "kratos");
+    let e = on_threads(2, &mesh, &setup).expect_err("refused");
+    let message = e.to_string();
+    assert!(
+        message.contains("octree_with_obb") && message.contains("robust"),
+        "{message}"
+    );
 }
 
 #[test]

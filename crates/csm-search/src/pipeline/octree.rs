@@ -97,6 +97,28 @@ pub(crate) struct OctreeReport {
     pub n_leaves: usize,
 }
 
+/// The lowest and the highest corner of the points of every rank (`points` this rank's):
+/// two points whose box is that of all of them, or none where no rank has a point.
+fn whole_extent(points: &[Point], ranks: &csm_model::Ranks) -> Result<Vec<Point>, Error> {
+    let mut low = [Real::INFINITY; 3];
+    let mut high = [Real::NEG_INFINITY; 3];
+    for p in points {
+        for k in 0..3 {
+            low[k] = low[k].min(p[k]);
+            high[k] = high[k].max(p[k]);
+        }
+    }
+    // Three maxima of the negated lows and three of the highs: one exchange each.
+    for k in 0..3 {
+        low[k] = -ranks.max(-low[k])?;
+        high[k] = ranks.max(high[k])?;
+    }
+    if low.iter().zip(&high).any(|(l, h)| l > h) {
+        return Ok(Vec::new());
+    }
+    Ok(vec![Point::from(low), Point::from(high)])
+}
+
 fn geometry_error(model: &ModelPart, c: ConditionIdx, message: String) -> Error {
     ErrorKind::Geometry {
         condition: model.conditions().ids()[c.index()],
@@ -437,6 +459,11 @@ pub(crate) fn search_octree_report(
                 box_points.extend([aabb.min, aabb.max]);
             }
         }
+    }
+    // A distributed run: the box of the whole problem's points (every rank holds a part of
+    // them; a minimum and a maximum in any grouping are the one-process ones).
+    if let Some(ranks) = cx.ranks {
+        box_points = whole_extent(&box_points, ranks)?;
     }
     let Some((low, high)) = root_box::root_box(
         &box_points,
