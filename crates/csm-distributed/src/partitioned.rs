@@ -10,7 +10,7 @@ use csm_model::{EntityArrays, MeshArrays, Ranks, Transport};
 use csm_search::{SearchResult, SearchSetup};
 
 use crate::codec::{decode_mesh, decode_result, encode_mesh};
-use crate::run::{RankTimes, RunError, Stop, gathered_results, merge, stopped};
+use crate::run::{RankTimes, RunError, Stop, gathered_results, merge, stopped, with_interfaces};
 
 /// One rank of a search of a mesh already split across the ranks of `transport` (its
 /// communicator): `local` is this rank's piece, with global ids — its nodes, elements,
@@ -44,6 +44,22 @@ pub fn search_partitioned(
         .collect::<Result<Vec<_>, _>>()
         .and_then(|pieces| join(&pieces))
         .map_err(|e| stopped(&transport, Stop::Failed(e)))?;
+    // Conditions generated from the elements would belong to no piece, and their pairs to no
+    // rank: the pieces must bring the contact conditions (every rank decides alike).
+    if with_interfaces(&whole, setup)
+        .map_err(|e| stopped(&transport, e))?
+        .is_some()
+    {
+        return Err(stopped(
+            &transport,
+            Stop::Failed(
+                "the partitioned search needs the contact conditions in the pieces: a contact \
+                 part without conditions would have them generated from the elements, and they \
+                 would belong to no piece"
+                    .to_owned(),
+            ),
+        ));
+    }
     let mut times = RankTimes::default();
     let (_, all) = gathered_results(&transport, &whole, setup, &mut times)?;
     let parts: Vec<SearchResult> = all.iter().map(|b| decode_result(b)).collect();

@@ -118,12 +118,80 @@ pub fn search_rank_timed(
     setup: &SearchSetup,
 ) -> Result<(Option<SearchResult>, RankTimes), RunError> {
     let mut times = RankTimes::default();
+    let start = Instant::now();
+    let prepared = with_interfaces(mesh, setup).map_err(|e| stopped(&transport, e))?;
+    let (mesh, setup) = match &prepared {
+        Some((mesh, setup)) => (mesh, setup),
+        None => (mesh, setup),
+    };
+    times.initialize += start.elapsed().as_secs_f64();
     let (rank, all) = gathered_results(&transport, mesh, setup, &mut times)?;
     if rank != 0 {
         return Ok((None, times));
     }
     let parts: Vec<SearchResult> = all.iter().map(|b| decode_result(b)).collect();
     Ok((Some(merge(parts, mesh, setup)), times))
+}
+
+/// The part [`with_interfaces`] adds for the split: the generated slave conditions.
+const GENERATED_SLAVES: &str = "CsmGeneratedSlaveConditions";
+
+/// The whole mesh with the interface conditions the search generates from the elements of
+/// contact parts without conditions (stage 1, [`csm_search::generate_interfaces_first`]),
+/// before it is split: the part of a rank holds no whole body to generate them from, nor the
+/// ids the whole model gives them. With the setup that carries stage 1's warnings. `None`
+/// where nothing is generated. Every rank computes the same.
+pub(crate) fn with_interfaces(
+    mesh: &MeshArrays,
+    setup: &SearchSetup,
+) -> Result<Option<(MeshArrays, SearchSetup)>, Stop> {
+    let empty_part = (setup.pairs.values().flat_map(|p| &p.parts)).any(|path| {
+        mesh.parts
+            .get(path)
+            .is_some_and(|p| p.conditions.is_empty())
+    });
+    // (A setup a distributed run refuses is refused after this, with its reason.)
+    if !empty_part || distributed_pair(setup).is_err() {
+        return Ok(None);
+    }
+    let mut model = ModelPart::from_arrays(&setup.model_part_name, mesh)
+        .map_err(|e| Stop::Failed(e.to_string()))?;
+    let Some(warnings) = csm_search::generate_interfaces_first(&mut model, setup)? else {
+        return Ok(None);
+    };
+    let mut arrays = model.to_arrays();
+    // The contact parts are made again by each rank's search, from the user parts.
+    arrays
+        .parts
+        .retain(|path, _| path != "Contact" && !path.starts_with("Contact."));
+    // The generated conditions that are slaves (all their nodes in a slave part): a slave part
+    // of their own, so that the split takes them as slaves and each rank's search gives them
+    // the flags the generation gave (SLAVE; MASTER false where Kratos leaves it undefined,
+    // which reads the same).
+    let before: BTreeSet<u32> = (mesh.conditions.values())
+        .flat_map(|c| c.ids.iter().copied())
+        .collect();
+    let (ids, flags) = (model.conditions().ids(), model.conditions().flags());
+    let generated_slaves: Vec<u32> = (0..ids.len())
+        .filter(|&c| !before.contains(&ids[c]) && flags[c].is(csm_model::Flag::SLAVE))
+        .map(|c| ids[c])
+        .collect();
+    let mut sorted = generated_slaves;
+    sorted.sort_unstable();
+    arrays.parts.insert(
+        GENERATED_SLAVES.to_owned(),
+        csm_model::PartArrays {
+            conditions: sorted,
+            ..Default::default()
+        },
+    );
+    let mut setup = setup.clone();
+    setup.warnings.extend(warnings);
+    setup.interfaces_generated = true;
+    for pair in setup.pairs.values_mut() {
+        pair.slaves.push(GENERATED_SLAVES.to_owned());
+    }
+    Ok(Some((arrays, setup)))
 }
 
 /// Every rank's owned result (as bytes, in rank order) on every rank, with this rank, or the
@@ -175,6 +243,14 @@ fn rank_search(
              sums); node {} follows node {}",
             w[1], w[0]
         )));
+    }
+    // The normal check computes the unit normal of every condition of the mesh and stops at
+    // the first it cannot compute, contact condition or not; a rank holds only the contact
+    // conditions near its own.
+    if !setup.cpp_search_parameters
+        && let Some(message) = first_degenerate_condition(mesh)
+    {
+        return Err(Stop::Failed(message));
     }
     let slaves: Vec<&str> = pair.slaves.iter().map(String::as_str).collect();
     let contact: Vec<&str> = pair.parts.iter().map(String::as_str).collect();
@@ -236,6 +312,47 @@ fn rank_search(
         .filter(|pc| ranks.owns_condition(ids[pc.slave.index()]))
         .count();
     Ok((ranks, part, result))
+}
+
+/// The error of the normal check's unit normals of every condition of `mesh`
+/// (`compute_unit_normals` over the whole model: the first face it cannot compute, whose
+/// message the one-process run gives), the conditions taken kind by kind and, in each, in the
+/// mesh's order (the one-process order where the mesh has one condition kind, else the first
+/// failing kind's first). `None` where every face has its normal.
+fn first_degenerate_condition(mesh: &MeshArrays) -> Option<String> {
+    let point = |id: u32| -> Option<csm_geometry::math::Point> {
+        let at = mesh.node_ids.binary_search(&id).ok()?;
+        let [x, y, z] = mesh.points[at];
+        Some(csm_geometry::math::Point::new(x, y, z))
+    };
+    let mut points = Vec::new();
+    let mut normals = Vec::new();
+    for (&kind, conditions) in mesh.conditions.iter().filter(|(k, _)| k.is_face()) {
+        let n = kind.n_nodes().max(1);
+        for (&id, nodes) in conditions.ids.iter().zip(conditions.connectivity.chunks(n)) {
+            points.clear();
+            // (A missing node is the split's error, with its own message.)
+            let Some(found) = nodes
+                .iter()
+                .map(|&node| point(node))
+                .collect::<Option<Vec<_>>>()
+            else {
+                continue;
+            };
+            points.extend(found);
+            normals.clear();
+            let normal = csm_geometry::Geometry::new(kind, &points)
+                .and_then(|g| g.face_unit_normals_into(&mut normals));
+            if let Err(e) = normal {
+                let error = csm_search::ErrorKind::Geometry {
+                    condition: id,
+                    message: e.to_string(),
+                };
+                return Some(csm_search::Error::from(error).to_string());
+            }
+        }
+    }
+    None
 }
 
 /// The number of conditions of the parts `slaves` (each once).

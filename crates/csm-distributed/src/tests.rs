@@ -234,18 +234,55 @@ fn robust_octree_on_ranks_gives_the_one_process_result() {
     }
 }
 
-/// Kratos' octree (its SELECTED flags carried from condition to condition) is refused, with
-/// the way out.
+/// Contact parts that list nodes only: the search generates their interface conditions from
+/// the elements (stage 1). A distributed run generates them on the whole mesh before the
+/// split (the ids, properties and roles of the one-process run) and gives the one-process
+/// result, in both modes (kratos mode renumbers every condition first), with a degenerate
+/// load condition far from the contact (the normal check stops there, on every rank).
 #[test]
-fn kratos_modes_octree_is_refused_on_every_rank() {
-    let mesh = scene("stacked_blocks.mdpa");
-    let setup = test_setup(false, "octree_with_obb", "kratos");
-    let e = on_threads(2, &mesh, &setup).expect_err("refused");
-    let message = e.to_string();
-    assert!(
-        message.contains("octree_with_obb") && message.contains("robust"),
-        "{message}"
-    );
+fn interfaces_generated_from_the_elements_give_the_one_process_result() {
+    for name in ["stacked_blocks.mdpa", "sphere_on_plate_tri.mdpa"] {
+        // The scene without its conditions: the parts keep their nodes.
+        let mut mesh = scene(name);
+        mesh.conditions.clear();
+        for part in mesh.parts.values_mut() {
+            part.conditions.clear();
+        }
+        for mode in ["kratos", "robust"] {
+            let setup = test_setup(false, "in_radius_with_obb", mode);
+            let mut model = ModelPart::from_arrays("Structure", &mesh).expect("a model");
+            let serial = (ContactSearch::initialize(&mut model, &setup))
+                .and_then(|mut s| s.step(&mut model))
+                .expect("the one-process search");
+            assert!(serial.n_pairs() > 0, "{name}: pairs found");
+            for ranks in 1..=3 {
+                let got = on_threads(ranks, &mesh, &setup).expect("the distributed search");
+                assert_eq!(got, serial, "{name}, {mode}, {ranks} ranks");
+            }
+        }
+    }
+    // A load condition with every node at one point, on no contact part: the one-process
+    // normal check stops at it, and so does every rank.
+    let mut mesh = scene("stacked_blocks.mdpa");
+    let node = mesh.node_ids[0];
+    let loads = (mesh
+        .conditions
+        .entry(csm_geometry::GeometryKind::Triangle3D3))
+    .or_default();
+    loads.ids.push(999_999);
+    loads.connectivity.extend([node; 3]);
+    loads.properties.push(0);
+    let setup = test_setup(false, "in_radius_with_obb", "kratos");
+    let mut model = ModelPart::from_arrays("Structure", &mesh).expect("a model");
+    let serial = (ContactSearch::initialize(&mut model, &setup))
+        .and_then(|mut s| s.step(&mut model))
+        .expect_err("a degenerate condition")
+        .to_string();
+    assert!(serial.contains("999999"), "{serial}");
+    for ranks in 1..=3 {
+        let got = on_threads(ranks, &mesh, &setup).expect_err("the same error");
+        assert!(got.0.ends_with(&serial), "{ranks} ranks: {got} / {serial}");
+    }
 }
 
 #[test]
@@ -394,7 +431,7 @@ fn unsupported_setups_are_refused_with_a_reason() {
     assert_eq!(
         err.0,
         "rank 0 of 2: a distributed run does not support `\"type_search\": \"octree_with_obb\"` \
-         (use a kd-tree search type) yet"
+         in kratos mode (use \"compatibility\": \"robust\" or a kd-tree search type) yet"
     );
     let automatic = parse_setup(
         r#"{"contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]}}"#,

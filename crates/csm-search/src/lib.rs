@@ -52,7 +52,8 @@ pub mod scenes;
 mod trace;
 pub use pipeline::{
     ContactSearch, MappingTuning, NodeResult, PairGlobals, PairedCondition, QueryOrder,
-    SearchResult, SearchTuning, StepResult, TruthScene, kratos_renumbering, passes_orientation,
+    SearchResult, SearchTuning, StepResult, TruthScene, generate_interfaces_first,
+    kratos_renumbering, passes_orientation,
 };
 pub use plan::{
     Activation, Decision, InterfaceAction, KdQuery, NodalHSource, NodalVariable, NormalCheck,

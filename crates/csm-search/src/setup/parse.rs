@@ -607,6 +607,7 @@ fn parse_inner(text: &str) -> Result<SearchSetup, Error> {
         nodal_values,
         steps,
         refit_tree,
+        interfaces_generated: false,
         warnings: cx.warnings,
         source: None,
     })

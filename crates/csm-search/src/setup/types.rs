@@ -287,6 +287,11 @@ pub struct SearchSetup {
     /// to the moved condition centres instead of rebuilt (same pairs; `docs/steps.md`).
     /// `false` rebuilds it every step, as Kratos does.
     pub refit_tree: bool,
+    /// The contact parts hold already the interface conditions stage 1 would generate from
+    /// the elements ([`crate::generate_interfaces_first`], which a distributed run calls on the
+    /// whole mesh before it splits it): stage 1 is left out. Not a SETUP.json key; false
+    /// from [`crate::parse_setup`].
+    pub interfaces_generated: bool,
     /// Silent fallbacks and dropped keys, in the order met.
     pub warnings: Vec<String>,
     /// The setup file's name and text, so that errors met later (an unknown part name, …)

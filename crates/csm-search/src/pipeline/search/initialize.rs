@@ -59,38 +59,8 @@ impl ContactSearch {
                 if setup.skin {
                     skin_roles(model, &setup);
                 }
-                // Stage 1 for every user part (Kratos calls GenerateInterfacePart on each: it only
-                // checks the properties when the part has conditions, else generates them). On
-                // the C++ path (no Python layer) only parts that list nodes only get conditions,
-                // as Kratos' tests that drive the C++ process do before building it
-                // (test_dynamic_search.py, reference §20.2); the plan says which.
-                let stage_1 = plan.interface.is_used();
-                for (&key, pair) in setup.pairs.iter().filter(|_| stage_1) {
-                    for path in &pair.parts {
-                        let part = model.get_part(path).map_err(model_error)?;
-                        if !python_path && !model.part(part).conditions().is_empty() {
-                            continue;
-                        }
-                        let settings = InterfaceSettings {
-                            simplify_geometry: false,
-                            contact_property_id: pair.property_id,
-                            compatibility: setup.compatibility,
-                        };
-                        let report = generate_interface_conditions(model, part, &settings)?;
-                        let renumbered = &report.renumbered_properties;
-                        if let Some(props) = parts.properties.get_mut(&key)
-                            && let Some((_, new)) = renumbered.iter().find(|(old, _)| old == props)
-                        {
-                            *props = *new;
-                        }
-                        if report.skipped_duplicates > 0 {
-                            warnings.push(format!(
-                                "part `{path}`: {} faces shared by two solids generated once (robust \
-                                 mode; Kratos generates them twice, Q29)",
-                                report.skipped_duplicates
-                            ));
-                        }
-                    }
+                if plan.interface.is_used() && !setup.interfaces_generated {
+                    interface_stage(model, &setup, python_path, (&mut parts, &mut warnings))?;
                 }
                 transfer_to_contact(model, &setup, &parts)?;
                 parts
@@ -255,6 +225,81 @@ impl ContactSearch {
             tuning: SearchTuning::default(),
         })
     }
+}
+
+/// Stage 1 for every user part (Kratos calls GenerateInterfacePart on each: it only checks the
+/// properties when the part has conditions, else generates them). On the C++ path (no Python
+/// layer, `python_path` false) only parts that list nodes only get conditions, as Kratos'
+/// tests that drive the C++ process do before building it (test_dynamic_search.py, reference
+/// §20.2). Renumbered contact properties go to `parts`, warnings to `warnings`.
+fn interface_stage(
+    model: &mut ModelPart,
+    setup: &SearchSetup,
+    python_path: bool,
+    (parts, warnings): (&mut ContactParts, &mut Vec<String>),
+) -> Result<(), Error> {
+    for (&key, pair) in &setup.pairs {
+        for path in &pair.parts {
+            let part = model.get_part(path).map_err(model_error)?;
+            if !python_path && !model.part(part).conditions().is_empty() {
+                continue;
+            }
+            let settings = InterfaceSettings {
+                simplify_geometry: false,
+                contact_property_id: pair.property_id,
+                compatibility: setup.compatibility,
+            };
+            let report = generate_interface_conditions(model, part, &settings)?;
+            let renumbered = &report.renumbered_properties;
+            if let Some(props) = parts.properties.get_mut(&key)
+                && let Some((_, new)) = renumbered.iter().find(|(old, _)| old == props)
+            {
+                *props = *new;
+            }
+            if report.skipped_duplicates > 0 {
+                warnings.push(format!(
+                    "part `{path}`: {} faces shared by two solids generated once (robust mode; \
+                     Kratos generates them twice, Q29)",
+                    report.skipped_duplicates
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// For a run that splits the model afterwards (`csm-distributed`): the interface conditions
+/// that stage 1 generates from the elements of the contact parts without conditions, generated
+/// on the whole model as [`ContactSearch::initialize`] generates them (the same ids, properties
+/// and flags), with the contact parts' flags of stage 0 and the parts `Contact` and
+/// `Contact.ContactSub<key>` (still empty). Returns the warnings stage 1 gives, or `None`
+/// (nothing done) where no condition would be generated: every contact part has conditions,
+/// the model has a `Contact` part, the setup detects the skin, or the plan leaves stage 1 out.
+///
+/// [`ContactSearch::initialize`] of a piece of the result (the parts then have conditions, so
+/// stage 1 only checks their properties), with the warnings added to the setup's, searches as
+/// the one-process run does.
+pub fn generate_interfaces_first(
+    model: &mut ModelPart,
+    setup: &SearchSetup,
+) -> Result<Option<Vec<String>>, Error> {
+    if model.find_part("Contact").is_some() || setup.skin {
+        return Ok(None);
+    }
+    let without_conditions = (setup.pairs.values().flat_map(|p| &p.parts))
+        .any(|path| (model.find_part(path)).is_some_and(|p| model.part(p).conditions().is_empty()));
+    if !without_conditions {
+        return Ok(None);
+    }
+    let plan = Plan::decide(model, setup)?;
+    if !plan.interface.is_used() {
+        return Ok(None);
+    }
+    let mut parts = assign_contact_flags(model, setup)?;
+    let mut warnings = Vec::new();
+    let python_path = !setup.cpp_search_parameters;
+    interface_stage(model, setup, python_path, (&mut parts, &mut warnings))?;
+    Ok(Some(warnings))
 }
 
 /// Sets `flag` to `value` on every condition of `part` (in parallel: the part lists its
