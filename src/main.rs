@@ -129,7 +129,7 @@ enum Command {
         #[arg(long)]
         threads: Option<usize>,
         /// Also write the wall time of every stage (read, initialize, search, write) as
-        /// JSON (`csm-profile/1`).
+        /// JSON (`csm-profile/1`; under `mpirun`, rank 0's stages and every rank's phases).
         #[arg(long, value_name = "PROFILE.json")]
         profile: Option<PathBuf>,
         /// Print nothing but errors.
@@ -196,7 +196,8 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
             #[cfg(feature = "mpi")]
             if csm::distributed::MpiTransport::launched() {
                 let files = (mesh.as_path(), setup.as_deref(), output.as_deref());
-                return search_on_ranks(files, vtk.is_some() || profile.is_some(), quiet);
+                let profile = profile.as_deref().zip(recorder.as_ref());
+                return search_on_ranks(files, (vtk.is_some(), profile), quiet);
             }
             let start = Instant::now();
             let phase = |name: &str| {
@@ -451,21 +452,30 @@ fn vtu_format(ascii: bool) -> csm::io::VtuFormat {
 #[cfg(feature = "mpi")]
 fn search_on_ranks(
     (mesh, setup, output): (&Path, Option<&Path>, Option<&Path>),
-    files_asked: bool,
+    (vtk_asked, profile): (bool, Option<(&Path, &Recorder)>),
     quiet: bool,
 ) -> Result<(), String> {
     use std::sync::Arc;
     let transport: Arc<dyn csm::model::Transport> =
         Arc::new(csm::distributed::MpiTransport::start()?);
     let start = Instant::now();
-    let input = if files_asked {
-        Err("--vtk and --profile: a distributed run does not write them yet".to_owned())
+    let recorder = profile.map(|(_, r)| r);
+    if let Some(r) = recorder {
+        r.phase("read");
+    }
+    let input = if vtk_asked {
+        Err("--vtk: a distributed run does not write it yet".to_owned())
     } else {
         csm::io::read_mesh(mesh)
             .map_err(|e| e.to_string())
             .and_then(|model| Ok((model.to_arrays(), csm::cli::setup_for(setup, &model)?)))
     };
     let read = start.elapsed().as_secs_f64();
+    if let Some(r) = recorder {
+        r.end_phase(read);
+        // The distributed search says where its search phase begins.
+        r.phase("initialize");
+    }
     let outcome = match &input {
         Ok((arrays, setup)) => {
             csm::distributed::search_rank_timed(Arc::clone(&transport), arrays, setup)
@@ -483,9 +493,19 @@ fn search_on_ranks(
         drop(transport);
         std::process::exit(1);
     }
+    if let Some(r) = recorder {
+        r.end_current_phase();
+    }
+    // Every rank's phase times, on every rank (every rank that got here takes part, profile
+    // or not, so that the ranks stay in step).
+    let (result, times) = outcome.map_err(|e| e.to_string())?;
+    let mine: Vec<u8> = [read, times.initialize, times.search]
+        .iter()
+        .flat_map(|t| t.to_le_bytes())
+        .collect();
+    let every_rank = transport.all_gather(&mine);
     // The last handle: MPI is finalised here, before the process ends.
     drop(transport);
-    let (result, times) = outcome.map_err(|e| e.to_string())?;
     let Some(result) = result else {
         return Ok(());
     };
@@ -495,14 +515,45 @@ fn search_on_ranks(
         search: times.search,
         total: start.elapsed().as_secs_f64(),
     };
+    let writing = Instant::now();
+    if let Some(r) = recorder {
+        r.phase("write");
+    }
     match output {
         Some(path) => write_result(path, &result, &timings)?,
         None => out(&result_json(&result, &timings)?)?,
+    }
+    if let Some((path, r)) = profile {
+        r.record("RESULT.json", writing.elapsed().as_secs_f64());
+        r.end_phase(writing.elapsed().as_secs_f64());
+        let mut json = r.to_json(rayon::current_num_threads(), start.elapsed().as_secs_f64());
+        json["ranks"] = rank_times(&every_rank).into();
+        let text =
+            serde_json::to_string_pretty(&json).map_err(|e| format!("cannot format JSON: {e}"))?;
+        std::fs::write(path, text + "\n")
+            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
     }
     if !quiet {
         summary(&result, &timings, ("", " (rank 0)"));
     }
     Ok(())
+}
+
+/// Every rank's phase times (`read`, `initialize`, `search`: three little-endian `f64`
+/// each, in rank order) as the profile's `ranks` list.
+#[cfg(feature = "mpi")]
+fn rank_times(every_rank: &[Vec<u8>]) -> Vec<serde_json::Value> {
+    every_rank
+        .iter()
+        .map(|bytes| {
+            let at = |k: usize| {
+                (bytes.get(8 * k..8 * k + 8))
+                    .and_then(|b| <[u8; 8]>::try_from(b).ok())
+                    .map_or(f64::NAN, f64::from_le_bytes)
+            };
+            serde_json::json!({"read": at(0), "initialize": at(1), "search": at(2)})
+        })
+        .collect()
 }
 
 /// `csm search`'s summary on standard error: the counts, the times (`before` and `after`

@@ -8,9 +8,15 @@
 //! ([`Recorder::phase`]); the time of a phase not covered by its stages is reported as its
 //! stage `other`, so the stages of a phase always add up to the phase.
 //!
+//! A library run whose phases the binary does not see begin and end (a distributed search:
+//! initialise and search inside one call) says where the next phase begins with a
+//! `csm::stages` event carrying the field `phase` ([`Recorder::next_phase`]).
+//!
 //! The file (`csm-profile/1`):
 //! `{"format": "csm-profile/1", "threads": N, "phases": {"read": s, …, "total": s},
-//!   "stages": [{"phase": "initialize", "stage": "normal check", "seconds": s}, …]}`.
+//!   "stages": [{"phase": "initialize", "stage": "normal check", "seconds": s}, …]}`; under
+//! `mpirun` also `"ranks": [{"read": s, "initialize": s, "search": s}, …]`, every rank's
+//! phases in rank order (the file's phases and stages are rank 0's).
 
 use std::sync::{Arc, Mutex, PoisonError};
 
@@ -32,6 +38,8 @@ pub struct StageTime {
 #[derive(Debug, Default)]
 struct State {
     phase: String,
+    /// When the current phase began ([`Recorder::phase`]).
+    began: Option<std::time::Instant>,
     stages: Vec<StageTime>,
     phases: Vec<(String, f64)>,
 }
@@ -54,7 +62,24 @@ impl Recorder {
 
     /// Starts phase `name`: the stages that end from now on belong to it.
     pub fn phase(&self, name: &str) {
-        self.with(|s| s.phase = name.to_owned());
+        self.with(|s| {
+            s.phase = name.to_owned();
+            s.began = Some(std::time::Instant::now());
+        });
+    }
+
+    /// Ends the current phase with the time since it began ([`Recorder::end_phase`]) and
+    /// starts phase `name`: for a library that says where its phases meet (a `csm::stages`
+    /// event with the field `phase`, [`Recorder::layer`]).
+    pub fn next_phase(&self, name: &str) {
+        self.end_current_phase();
+        self.phase(name);
+    }
+
+    /// Ends the current phase with the time since it began.
+    pub fn end_current_phase(&self) {
+        let seconds = self.with(|s| s.began.map_or(0.0, |b| b.elapsed().as_secs_f64()));
+        self.end_phase(seconds);
     }
 
     /// Ends the current phase, which took `seconds` in all: what its stages do not cover
@@ -137,11 +162,12 @@ pub struct StageLayer {
     recorder: Recorder,
 }
 
-/// The `stage` and `seconds` fields of an event.
+/// The `stage` and `seconds` fields of an event, or its `phase` (the next phase begins).
 #[derive(Default)]
 struct StageFields {
     stage: Option<String>,
     seconds: Option<f64>,
+    phase: Option<String>,
 }
 
 impl Visit for StageFields {
@@ -152,8 +178,10 @@ impl Visit for StageFields {
     }
 
     fn record_str(&mut self, field: &Field, value: &str) {
-        if field.name() == "stage" {
-            self.stage = Some(value.to_owned());
+        match field.name() {
+            "stage" => self.stage = Some(value.to_owned()),
+            "phase" => self.phase = Some(value.to_owned()),
+            _ => {}
         }
     }
 
@@ -169,6 +197,8 @@ impl<S: tracing::Subscriber> Layer<S> for StageLayer {
         event.record(&mut fields);
         if let (Some(stage), Some(seconds)) = (fields.stage, fields.seconds) {
             self.recorder.record(&stage, seconds);
+        } else if let Some(phase) = fields.phase {
+            self.recorder.next_phase(&phase);
         }
     }
 }

@@ -43,6 +43,7 @@ fn main() -> ExitCode {
         }
     }
     failed.extend(cli_scenes(&mpirun));
+    failed.extend(profile_on_ranks(&mpirun));
     failed.extend(bad_input_on_one_rank(&mpirun));
     if failed.is_empty() {
         println!("mpi: every check passed");
@@ -325,6 +326,65 @@ fn cli_scenes(mpirun: &Path) -> Vec<String> {
     failed
 }
 
+/// `mpirun -np 2 csm search --profile`: rank 0 writes the stage profile of its part, its
+/// stages in the phases they ran in, with every rank's phase times; `--vtk` is refused with
+/// a message on every rank.
+fn profile_on_ranks(mpirun: &Path) -> Vec<String> {
+    let (dir, robust) = work_dir("profile");
+    let mesh = root().join("tests/data/scenes/stacked_blocks.mdpa");
+    let (result, profile) = (dir.join("result.json"), dir.join("profile.json"));
+    let run = |more: &[&str]| {
+        let mut cmd = Command::new(mpirun);
+        cmd.args(mpirun_args(2)).arg(env!("CARGO_BIN_EXE_csm"));
+        cmd.arg("search").arg(&mesh).arg("--setup").arg(&robust);
+        cmd.arg("-o").arg(&result).arg("--quiet").args(more);
+        cmd.output().expect("mpirun runs")
+    };
+    let mut failed = Vec::new();
+    let out = run(&["--profile", &profile.to_string_lossy()]);
+    let json: Option<serde_json::Value> = std::fs::read_to_string(&profile)
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok());
+    let stage_in = |p: &serde_json::Value, phase: &str, stage: &str| {
+        (p["stages"].as_array().into_iter().flatten())
+            .any(|s| s["phase"] == phase && s["stage"] == stage)
+    };
+    match json {
+        _ if !out.status.success() => failed.push(format!(
+            "--profile on 2 ranks: {}",
+            String::from_utf8_lossy(&out.stderr)
+        )),
+        Some(p)
+            if p["format"] == "csm-profile/1"
+                && p["ranks"].as_array().is_some_and(|r| {
+                    r.len() == 2 && r.iter().all(|t| t["search"].as_f64().is_some())
+                })
+                && ["read", "initialize", "search", "write", "total"]
+                    .iter()
+                    .all(|k| p["phases"][k].as_f64().is_some())
+                && stage_in(&p, "initialize", "normal check")
+                && stage_in(&p, "search", "mapping")
+                && stage_in(&p, "write", "RESULT.json") =>
+        {
+            println!("mpirun -np 2 csm search --profile: rank 0's stages, every rank's phases");
+        }
+        p => failed.push(format!("--profile on 2 ranks wrote {p:?}")),
+    }
+    let out = run(&["--vtk", &dir.join("out.vtu").to_string_lossy()]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let refused = stderr
+        .lines()
+        .filter(|l| l.contains("--vtk: a distributed run does not write it yet"))
+        .count();
+    if out.status.success() || refused != 2 {
+        failed.push(format!("--vtk on 2 ranks: {stderr}"));
+    } else {
+        println!("mpirun -np 2 csm search --vtk: refused on every rank");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    failed
+}
+
 /// One rank of three given a mesh that is not there: every rank stops with its error, the
 /// run exits non-zero, nothing hangs.
 fn bad_input_on_one_rank(mpirun: &Path) -> Vec<String> {
@@ -336,9 +396,8 @@ fn bad_input_on_one_rank(mpirun: &Path) -> Vec<String> {
     if is_root() {
         cmd.arg("--allow-run-as-root");
     }
-    // mpirun would stop the job at the first rank's non-zero exit and may drop the output
-    // the other ranks' errors are still forwarding: let every rank end by itself.
-    cmd.args(["--mca", "orte_abort_on_non_zero_status", "0"]);
+    // mpirun stops the job at the first rank's non-zero exit (and so exits non-zero): every
+    // rank has printed its error before any exits (they wait for each other after printing).
     // Three programs of one rank each, one world: `mpirun A : B : C`.
     for (k, mesh) in [&good, &missing, &good].into_iter().enumerate() {
         if k > 0 {

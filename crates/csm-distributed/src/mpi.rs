@@ -87,7 +87,9 @@ fn serve(ready: Sender<Result<(usize, usize), String>>, requests: Receiver<Reque
             total += c;
         }
         let mut buf = vec![0u8; total as usize];
-        {
+        // Every rank sees the same counts: where all are zero, every rank skips the gather
+        // (Open MPI refuses a gather of nothing into an empty buffer, MPI_ERR_ARG).
+        if total > 0 {
             let mut partition = PartitionMut::new(&mut buf[..], &counts[..], &displs[..]);
             world.all_gather_varcount_into(&bytes[..], &mut partition);
         }

@@ -303,6 +303,8 @@ fn rank_search(
     let mut search = ContactSearch::initialize(&mut model, setup)?;
     search.set_ranks(Some(ranks.clone()));
     times.initialize = start.elapsed().as_secs_f64();
+    // Where a stage profile is kept (`csm search --profile`), the search phase begins here.
+    tracing::debug!(target: "csm::stages", phase = "search");
     let start = Instant::now();
     let mut result = search.step(&mut model)?;
     times.search = start.elapsed().as_secs_f64();

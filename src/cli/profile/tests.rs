@@ -43,3 +43,38 @@ fn records_stage_events_into_the_current_phase() {
     assert_eq!(json["phases"]["total"], 2.5);
     assert_eq!(json["stages"].as_array().unwrap().len(), 4);
 }
+
+/// A library's `phase` event ends the current phase with the time it has run and starts the
+/// next: the stages after it belong to the new phase, and the phases add up.
+#[test]
+fn a_phase_event_starts_the_next_phase() {
+    let recorder = Recorder::new();
+    let subscriber = tracing_subscriber::registry().with(recorder.layer());
+    tracing::subscriber::with_default(subscriber, || {
+        recorder.phase("initialize");
+        tracing::debug!(target: "csm::stages", stage = "normal check", seconds = 0.001, "m");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        tracing::debug!(target: "csm::stages", phase = "search");
+        tracing::debug!(target: "csm::stages", stage = "mapping", seconds = 0.001, "m");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        recorder.end_current_phase();
+    });
+    let stages: Vec<(String, String)> = (recorder.stages().into_iter())
+        .map(|t| (t.phase, t.stage))
+        .collect();
+    let s = |p: &str, n: &str| (p.to_owned(), n.to_owned());
+    assert_eq!(
+        stages,
+        [
+            s("initialize", "normal check"),
+            s("initialize", "other"),
+            s("search", "mapping"),
+            s("search", "other"),
+        ]
+    );
+    let json = recorder.to_json(1, 0.04);
+    for phase in ["initialize", "search"] {
+        let seconds = json["phases"][phase].as_f64().unwrap();
+        assert!((0.02..1.0).contains(&seconds), "{phase}: {seconds}");
+    }
+}
