@@ -271,7 +271,7 @@ fn rank_search(
     // rank's part and own nothing: every rank takes part in every exchange.
     let (ranks, rank) = (transport.ranks(), transport.rank());
     let with_slaves = slave_condition_count(mesh, &slaves).clamp(1, ranks);
-    let part = split_rank(
+    let mut part = split_rank(
         mesh,
         (&slaves, &contact),
         (with_slaves, rank % with_slaves),
@@ -298,8 +298,11 @@ fn rank_search(
         &part.owned_nodes,
         &part.owned_conditions,
     );
-    let mut model = ModelPart::from_arrays(&setup.model_part_name, &part.mesh)
+    // The part's arrays are not needed once its model is built (the owned ids are kept).
+    let arrays = std::mem::take(&mut part.mesh);
+    let mut model = ModelPart::from_arrays(&setup.model_part_name, &arrays)
         .map_err(|e| Stop::Failed(e.to_string()))?;
+    drop(arrays);
     let mut search = ContactSearch::initialize(&mut model, setup)?;
     search.set_ranks(Some(ranks.clone()));
     times.initialize = start.elapsed().as_secs_f64();
