@@ -80,6 +80,10 @@ pub fn distributed_pair(setup: &SearchSetup) -> Result<(u32, &PairSetup), String
     if pair.slaves.is_empty() {
         return refuse("roles decided automatically (give `assume_master_slave`)");
     }
+    if pair.search.inverted_search {
+        // Its pairs are keyed by the master-side conditions, which no rank owns.
+        return refuse("`inverted_search`");
+    }
     Ok((key, pair))
 }
 
@@ -168,12 +172,12 @@ pub(crate) fn with_interfaces(
     // of their own, so that the split takes them as slaves and each rank's search gives them
     // the flags the generation gave (SLAVE; MASTER false where Kratos leaves it undefined,
     // which reads the same).
-    let before: BTreeSet<u32> = (mesh.conditions.values())
-        .flat_map(|c| c.ids.iter().copied())
-        .collect();
+    // (Told by position: the new conditions come after the mesh's, whose ids kratos mode
+    // renumbers 1..N first, so a new id may be an old one.)
+    let before: usize = mesh.conditions.values().map(|c| c.ids.len()).sum();
     let (ids, flags) = (model.conditions().ids(), model.conditions().flags());
-    let generated_slaves: Vec<u32> = (0..ids.len())
-        .filter(|&c| !before.contains(&ids[c]) && flags[c].is(csm_model::Flag::SLAVE))
+    let generated_slaves: Vec<u32> = (before..ids.len())
+        .filter(|&c| flags[c].is(csm_model::Flag::SLAVE))
         .map(|c| ids[c])
         .collect();
     let mut sorted = generated_slaves;
@@ -305,7 +309,7 @@ fn rank_search(
     drop(arrays);
     let mut search = ContactSearch::initialize(&mut model, setup)?;
     search.set_ranks(Some(ranks.clone()));
-    times.initialize = start.elapsed().as_secs_f64();
+    times.initialize += start.elapsed().as_secs_f64();
     // Where a stage profile is kept (`csm search --profile`), the search phase begins here.
     tracing::debug!(target: "csm::stages", phase = "search");
     let start = Instant::now();

@@ -241,15 +241,37 @@ fn robust_octree_on_ranks_gives_the_one_process_result() {
 /// load condition far from the contact (the normal check stops there, on every rank).
 #[test]
 fn interfaces_generated_from_the_elements_give_the_one_process_result() {
-    for name in ["stacked_blocks.mdpa", "sphere_on_plate_tri.mdpa"] {
-        // The scene without its conditions: the parts keep their nodes.
+    let cases = [
+        ("stacked_blocks.mdpa", false),
+        ("sphere_on_plate_tri.mdpa", false),
+        ("stacked_blocks.mdpa", true),
+    ];
+    for (name, kept) in cases {
+        // The scene without its contact conditions: the parts keep their nodes. `kept`: the
+        // conditions stay in the mesh, in no part, their ids shifted by their count, so that
+        // kratos mode renumbers them 1..N and gives the generated ones the ids they had; and
+        // the slave part is the upper block's (its elements and nodes).
         let mut mesh = scene(name);
-        mesh.conditions.clear();
+        let count: usize = mesh.conditions.values().map(|c| c.ids.len()).sum();
+        if kept {
+            for c in mesh.conditions.values_mut() {
+                for id in &mut c.ids {
+                    *id += count as u32;
+                }
+            }
+        } else {
+            mesh.conditions.clear();
+        }
         for part in mesh.parts.values_mut() {
             part.conditions.clear();
         }
         for mode in ["kratos", "robust"] {
-            let setup = test_setup(false, "in_radius_with_obb", mode);
+            let mut setup = test_setup(false, "in_radius_with_obb", mode);
+            if kept {
+                // The slave role from the upper block's part (as Kratos' patch tests do): the
+                // generated slave conditions are in no slave part.
+                setup.pairs.get_mut(&0).expect("pair 0").slaves = vec!["Parts_Upper".to_owned()];
+            }
             let mut model = ModelPart::from_arrays("Structure", &mesh).expect("a model");
             let serial = (ContactSearch::initialize(&mut model, &setup))
                 .and_then(|mut s| s.step(&mut model))
@@ -257,7 +279,7 @@ fn interfaces_generated_from_the_elements_give_the_one_process_result() {
             assert!(serial.n_pairs() > 0, "{name}: pairs found");
             for ranks in 1..=3 {
                 let got = on_threads(ranks, &mesh, &setup).expect("the distributed search");
-                assert_eq!(got, serial, "{name}, {mode}, {ranks} ranks");
+                assert_eq!(got, serial, "{name} (kept {kept}), {mode}, {ranks} ranks");
             }
         }
     }
@@ -440,6 +462,13 @@ fn unsupported_setups_are_refused_with_a_reason() {
     .unwrap();
     let err = on_threads(2, &mesh, &automatic).expect_err("refused");
     assert!(err.0.contains("assume_master_slave"), "{err}");
+    // An inverted search keys its pairs by master-side conditions, which no rank owns.
+    let mut inverted = test_setup(false, "in_radius", "robust");
+    for pair in inverted.pairs.values_mut() {
+        pair.search.inverted_search = true;
+    }
+    let err = on_threads(2, &mesh, &inverted).expect_err("refused");
+    assert!(err.0.contains("inverted_search"), "{err}");
 }
 
 /// Piece `rank` of `ranks` of a mesh as a host code might hold it: the elements and the
