@@ -395,12 +395,16 @@ fn write_profile(
 ) -> Result<(), String> {
     if let (Some(path), Some(r)) = (path, recorder) {
         let json = r.to_json(rayon::current_num_threads(), start.elapsed().as_secs_f64());
-        let text =
-            serde_json::to_string_pretty(&json).map_err(|e| format!("cannot format JSON: {e}"))?;
-        std::fs::write(path, text + "\n")
-            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+        write_json(path, &json)?;
     }
     Ok(())
+}
+
+/// Writes `json` into `path`, pretty-printed, with a final newline.
+fn write_json(path: &Path, json: &serde_json::Value) -> Result<(), String> {
+    let text =
+        serde_json::to_string_pretty(json).map_err(|e| format!("cannot format JSON: {e}"))?;
+    std::fs::write(path, text + "\n").map_err(|e| format!("{}: cannot write: {e}", path.display()))
 }
 
 /// Runs the error-vs-run-time report (with progress), writes it into `output` and, unless
@@ -528,10 +532,7 @@ fn search_on_ranks(
         r.end_phase(writing.elapsed().as_secs_f64());
         let mut json = r.to_json(rayon::current_num_threads(), start.elapsed().as_secs_f64());
         json["ranks"] = rank_times(&every_rank).into();
-        let text =
-            serde_json::to_string_pretty(&json).map_err(|e| format!("cannot format JSON: {e}"))?;
-        std::fs::write(path, text + "\n")
-            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+        write_json(path, &json)?;
     }
     if !quiet {
         summary(&result, &timings, ("", " (rank 0)"));
