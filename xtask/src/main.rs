@@ -32,6 +32,9 @@
 //! - `cargo xtask stability`: runs the full stability suite (`tests/it/stability/`, release
 //!   build) and rewrites `docs/stability.md`; plain `cargo test` checks the CI-size cases
 //!   against the committed file.
+//! - `cargo xtask scene stacked_blocks N OUT.mdpa`: the benchmark's stacked blocks with about
+//!   N slave faces, the file `tools/bench_scenes.py` writes, at sizes Python is too slow for
+//!   (see `scene.rs`).
 //! - `cargo xtask snapshots`: the snapshot tests alone, as CI runs them; review changes
 //!   locally with `cargo insta review` (`cargo install cargo-insta` once).
 //!
@@ -45,6 +48,7 @@ use clap::{Parser, Subcommand};
 
 mod bench;
 mod scaling;
+mod scene;
 #[cfg(test)]
 mod tidy;
 
@@ -76,6 +80,8 @@ enum Task {
     Scaling(scaling::Options),
     /// The full stability suite; rewrites docs/stability.md.
     Stability,
+    /// Writes a benchmark scene (the stacked blocks) of any size, as tools/bench_scenes.py.
+    Scene(scene::Options),
 }
 
 fn main() -> Result<()> {
@@ -89,6 +95,7 @@ fn main() -> Result<()> {
         Task::Bench(options) => bench::bench(&options),
         Task::Scaling(options) => scaling::scaling(&options),
         Task::Stability => stability(),
+        Task::Scene(options) => scene::scene(&options),
     }
 }
 
