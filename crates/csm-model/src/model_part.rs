@@ -66,6 +66,24 @@ impl ModelPart {
         &mut self.nodes
     }
 
+    /// Part `idx` (read) beside the nodes (written): both borrows at once, so that a pass
+    /// over a part's nodes writes their flags without copying the part's list first (a
+    /// serial copy into fresh memory in every step).
+    pub fn part_and_nodes_mut(&mut self, idx: PartIdx) -> (&SubModelPart, &mut Nodes) {
+        (&self.parts[idx.index()], &mut self.nodes)
+    }
+
+    /// Part `idx` (read) beside the conditions (written), as [`ModelPart::part_and_nodes_mut`].
+    pub fn part_and_conditions_mut(&mut self, idx: PartIdx) -> (&SubModelPart, &mut Entities) {
+        (&self.parts[idx.index()], &mut self.conditions)
+    }
+
+    /// Part `idx` (read) beside the nodal variables (written), as
+    /// [`ModelPart::part_and_nodes_mut`].
+    pub fn part_and_nodal_data_mut(&mut self, idx: PartIdx) -> (&SubModelPart, &mut NodalData) {
+        (&self.parts[idx.index()], &mut self.nodal_data)
+    }
+
     /// The elements.
     pub fn elements(&self) -> &Entities {
         &self.elements

@@ -280,8 +280,8 @@ fn normal_gap_process_inner(
     let n_nodes = model.nodes().len();
     // 1. Sentinel and AUXILIAR_COORDINATES.
     {
-        let sub_nodes = model.part(sub).nodes().to_vec();
-        let data = model.nodal_data_mut();
+        let (part, data) = model.part_and_nodal_data_mut(sub);
+        let sub_nodes = part.nodes();
         data.add_scalar(ScalarVar::NormalGap);
         data.add_scalar(ScalarVar::NodalArea);
         // AUXILIAR_COORDINATES: computed below and moved in at the end (no column of zeros
@@ -498,34 +498,41 @@ fn normal_gap_process_inner(
     // 5. ComputeNormalGap (master side, then slave side): the new values (in that order; a
     // node on both sides takes its last), then written. Kratos takes a node as mapped when
     // `|AUX| > ε` (Q39: a point mapped onto the origin is not); robust mode knows which are.
-    let gaps: Vec<(usize, Real)> = {
+    // Each side's new values by position in its node list (`None`: unchanged), written in
+    // parallel, the slave side's last (the same values as one ordered pass).
+    let (master_gaps, slave_gaps) = {
         let normals = model.nodal_data().vector(VectorVar::Normal, 0);
         let normal = |i: usize| normals.map_or_else(Vector::zeros, |col| col[i]);
         let nflags = model.nodes().flags();
         let coords = model.nodes().coordinates();
-        s.master_nodes
-            .par_iter()
-            .chain(&s.slave_nodes)
-            .filter_map(|n| {
-                let i = n.index();
-                if nflags[i].is(Flag::SLAVE) != o {
-                    Some((i, 0.0))
-                } else if let Some(relative) = &relative {
-                    // (aux − X)·n, without forming aux.
-                    let r = slaves.get(*n).and_then(|j| relative[j])?;
-                    Some((i, r.dot(&normal(i))))
-                } else if norm_kratos(&aux[i]) > EPS {
-                    Some((i, (coords[i].coords - aux[i]).dot(&(-normal(i)))))
-                } else {
-                    None
-                }
-            })
-            .collect()
+        let value = |n: &csm_model::NodeIdx| -> Option<Real> {
+            let i = n.index();
+            if nflags[i].is(Flag::SLAVE) != o {
+                Some(0.0)
+            } else if let Some(relative) = &relative {
+                // (aux − X)·n, without forming aux.
+                let r = slaves.get(*n).and_then(|j| relative[j])?;
+                Some(r.dot(&normal(i)))
+            } else if norm_kratos(&aux[i]) > EPS {
+                Some((coords[i].coords - aux[i]).dot(&(-normal(i))))
+            } else {
+                None
+            }
+        };
+        let of = |nodes: &[csm_model::NodeIdx]| -> Vec<Option<Real>> {
+            nodes.par_iter().map(value).collect()
+        };
+        (of(&s.master_nodes), of(&s.slave_nodes))
     };
     let data = model.nodal_data_mut();
     if let Some(col) = data.scalar_mut(ScalarVar::NormalGap, 0) {
-        for (i, g) in gaps {
-            col[i] = g;
+        for (nodes, gaps) in [(&s.master_nodes, master_gaps), (&s.slave_nodes, slave_gaps)] {
+            let at = |k: usize| nodes[k].index();
+            write_at_ascending(col, nodes.len(), at, |k, g| {
+                if let Some(v) = gaps[k] {
+                    *g = v;
+                }
+            });
         }
     }
     if let Some(col) = data.scalar_mut(ScalarVar::NodalArea, 0) {

@@ -1,6 +1,7 @@
 //! The unit normals a step wrote, kept to be written back after the mapping.
 
 use csm_geometry::math::Vector;
+use rayon::prelude::*;
 
 use super::conditions_of;
 use crate::{ModelPart, PartIdx, VectorVar};
@@ -24,7 +25,10 @@ impl UnitNormalsSnapshot {
     /// conditions of `part` (all conditions when `None`); `None` when the model has no
     /// `NORMAL`.
     pub fn take(model: &ModelPart, part: Option<PartIdx>) -> Option<UnitNormalsSnapshot> {
-        let nodal = model.nodal_data().vector(VectorVar::Normal, 0)?.to_vec();
+        // Copied in parallel: fresh memory's first touch spread over the threads.
+        let nodal = (model.nodal_data().vector(VectorVar::Normal, 0)?.par_iter())
+            .copied()
+            .collect();
         Some(UnitNormalsSnapshot { part, nodal })
     }
 

@@ -120,9 +120,8 @@ pub(super) fn check_pairing(
             .collect();
         pair.paired.retain(|pc| !erased.contains(&pc.id.get()));
     }
-    let sub_nodes = model.part(sub).nodes().to_vec();
     if let Some(d) = restore {
-        shift_nodes(model, &sub_nodes, d, -1.0);
+        shift_nodes(model, sub, d, -1.0);
     }
     let normals_mode = match compatibility {
         Compatibility::Kratos => NormalsMode::Kratos,

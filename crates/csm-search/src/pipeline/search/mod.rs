@@ -466,8 +466,8 @@ impl ContactSearch {
 /// Sets `flag` to `value` on every node of `part` (in parallel: the part lists its nodes in
 /// ascending index).
 fn set_node_flag_on(model: &mut ModelPart, part: PartIdx, flag: Flag, value: bool) {
-    let nodes = model.part(part).nodes().to_vec();
-    let flags = model.nodes_mut().flags_mut();
+    let (part, nodes) = model.part_and_nodes_mut(part);
+    let (nodes, flags) = (part.nodes(), nodes.flags_mut());
     let at = |k: usize| nodes[k].index();
     write_at_ascending(flags, nodes.len(), at, |_, f| f.set(flag, value));
 }
@@ -537,9 +537,11 @@ impl RunMode {
     }
 }
 
-fn shift_nodes(model: &mut ModelPart, nodes: &[NodeIdx], delta: &[Vector], sign: Real) {
-    let coords = model.nodes_mut().coordinates_mut();
-    for n in nodes {
+/// Moves every node of `part` by `sign · delta` (by node index).
+fn shift_nodes(model: &mut ModelPart, part: PartIdx, delta: &[Vector], sign: Real) {
+    let (part, nodes) = model.part_and_nodes_mut(part);
+    let coords = nodes.coordinates_mut();
+    for n in part.nodes() {
         coords[n.index()] += delta[n.index()] * sign;
     }
 }

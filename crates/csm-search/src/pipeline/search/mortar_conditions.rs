@@ -14,19 +14,26 @@ pub(super) fn clear_mortar_conditions(
     compatibility: Compatibility,
 ) -> Result<(), Error> {
     let inverted = pair.params.inverted_search;
-    for c in model.part(pair.sub).conditions().to_vec() {
-        if model.conditions().flags()[c.index()].is(Flag::SLAVE) == inverted {
-            continue;
-        }
-        let orphans: Vec<ConditionId> = model
-            .index_map(c)
-            .iter()
-            .filter(|(_, paired)| paired.is_none())
-            .map(|(master, _)| master)
-            .collect();
-        if orphans.is_empty() {
-            continue;
-        }
+    // The slave conditions with orphan entries, found in parallel and taken in condition
+    // order (most steps have none: the first has empty INDEX_MAPs).
+    let m = &*model;
+    let with_orphans: Vec<(ConditionIdx, Vec<ConditionId>)> = m
+        .part(pair.sub)
+        .conditions()
+        .par_iter()
+        .filter(|c| m.conditions().flags()[c.index()].is(Flag::SLAVE) != inverted)
+        .filter_map(|&c| {
+            let mut orphans = m
+                .index_map(c)
+                .iter()
+                .filter(|(_, paired)| paired.is_none())
+                .map(|(master, _)| master)
+                .peekable();
+            orphans.peek()?;
+            Some((c, orphans.collect()))
+        })
+        .collect();
+    for (c, orphans) in with_orphans {
         if compatibility == Compatibility::Kratos {
             return Err(ErrorKind::RejectedByKratos(format!(
                 "pair {}: condition {} keeps master {} in its INDEX_MAP without a paired \
@@ -53,10 +60,10 @@ pub(super) fn clear_mortar_conditions(
         }
     }
     pair.paired = kept;
-    let nodes = model.part(pair.sub).nodes().to_vec();
-    let inactive: Vec<NodeIdx> = nodes
-        .into_iter()
-        .filter(|n| !model.nodes().flags()[n.index()].is(Flag::ACTIVE))
+    let node_flags = model.nodes().flags();
+    let inactive: Vec<NodeIdx> = (model.part(pair.sub).nodes().par_iter())
+        .filter(|n| !node_flags[n.index()].is(Flag::ACTIVE))
+        .copied()
         .collect();
     let data = model.nodal_data_mut();
     if let Some(col) = data.scalar_mut(ScalarVar::LagrangeMultiplierContactPressure, 0) {
@@ -97,18 +104,19 @@ pub(super) fn update_mortar_conditions(
     let dim = usize::from(pair.instance.dim);
     // 1. Dynamic search: the half-jump increments; MappingCheck moves the nodes (§11). Left
     // out when every increment would be zero (the plan, decided again on this step's data).
-    let sub_nodes = model.part(sub).nodes().to_vec();
+    // (The part's node list is read in place: no copy of it in every step.)
     pair.pruned.clear();
-    plan.step_jump = step_jump(&p, model, &sub_nodes);
+    let sub_nodes = model.part(sub).nodes();
+    plan.step_jump = step_jump(&p, model, sub_nodes);
     let delta = if plan.step_jump.is_used() {
         let dt = model.process_info().number("DELTA_TIME").unwrap_or(1.0);
-        Some(compute_step_jump(model, &sub_nodes, dt))
+        Some(compute_step_jump(model, sub_nodes, dt))
     } else {
         None
     };
     let moved = plan.step_jump.used().is_some_and(|s| s.moves_nodes);
     if let (true, Some(d)) = (moved, &delta) {
-        shift_nodes(model, &sub_nodes, d, 1.0);
+        shift_nodes(model, sub, d, 1.0);
     }
     // 2. Unit normals of ContactSub.
     let normals_mode = match compatibility {
@@ -249,7 +257,7 @@ pub(super) fn update_mortar_conditions(
     // No/DirectCheck with a dynamic search: Kratos subtracts the increment although the
     // nodes were never moved (Q9); robust mode does not.
     if let (Some(d), Compatibility::Kratos) = (&delta, compatibility) {
-        shift_nodes(model, &sub_nodes, d, -1.0);
+        shift_nodes(model, sub, d, -1.0);
     }
     Ok(run_warnings)
 }
