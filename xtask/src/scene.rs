@@ -37,7 +37,10 @@ pub fn scene(options: &Options) -> Result<()> {
         );
     }
     if !(options.slave_faces.is_finite() && options.slave_faces >= 1.0) {
-        bail!("slave faces must be a number ≥ 1, not {}", options.slave_faces);
+        bail!(
+            "slave faces must be a number ≥ 1, not {}",
+            options.slave_faces
+        );
     }
     let (slave, master) = write_stacked_blocks(options.slave_faces as usize, &options.output)?;
     println!("{} {slave} {master}", options.output.display());
@@ -81,10 +84,13 @@ impl Mesh {
         let up = z_face > z_back;
         for j in 0..n {
             for i in 0..n {
-                let q = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)].map(|(a, b)| b * (n + 1) + a);
+                let q =
+                    [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)].map(|(a, b)| b * (n + 1) + a);
                 let (t, b) = (q.map(|k| top[k]), q.map(|k| bottom[k]));
-                self.elements.push([b[0], b[1], b[2], b[3], t[0], t[1], t[2], t[3]]);
-                self.conditions.push(if up { t } else { [b[3], b[2], b[1], b[0]] });
+                self.elements
+                    .push([b[0], b[1], b[2], b[3], t[0], t[1], t[2], t[3]]);
+                self.conditions
+                    .push(if up { t } else { [b[3], b[2], b[1], b[0]] });
             }
         }
         Slab {
@@ -162,7 +168,8 @@ fn write_stacked_blocks(slave_faces: usize, path: &Path) -> Result<(usize, usize
         }
         f.write_all(b"  End SubModelPartConditions\nEnd SubModelPart\n\n")?;
     }
-    f.flush().with_context(|| format!("writing {}", path.display()))?;
+    f.flush()
+        .with_context(|| format!("writing {}", path.display()))?;
     Ok((n * n, m * m))
 }
 
@@ -193,7 +200,10 @@ mod tests {
         assert_eq!((slave, master), (17 * 17, 14 * 14));
         let text = fs::read_to_string(&rust).unwrap();
         let body = |t: &str| -> String {
-            t.lines().filter(|l| !l.starts_with("// ")).collect::<Vec<_>>().join("\n")
+            t.lines()
+                .filter(|l| !l.starts_with("// "))
+                .collect::<Vec<_>>()
+                .join("\n")
         };
         assert!(text.contains("Begin SubModelPart Parts_Lower"));
         let tools = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tools");
@@ -203,12 +213,17 @@ mod tests {
             tools.display().to_string(),
             dir.join("python.mdpa").display().to_string()
         );
-        match std::process::Command::new("python3").args(["-c", &script]).status() {
+        match std::process::Command::new("python3")
+            .args(["-c", &script])
+            .status()
+        {
             Ok(s) if s.success() => {
                 let python = fs::read_to_string(dir.join("python.mdpa")).unwrap();
                 assert_eq!(body(&text), body(&python));
             }
-            _ => eprintln!("python3 missing or failing: the comparison with bench_scenes.py is skipped"),
+            _ => eprintln!(
+                "python3 missing or failing: the comparison with bench_scenes.py is skipped"
+            ),
         }
         fs::remove_dir_all(&dir).unwrap();
     }
