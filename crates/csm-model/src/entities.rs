@@ -5,6 +5,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use csm_geometry::GeometryKind;
 use csm_geometry::math::Point;
+use rayon::prelude::*;
 
 use crate::{Flags, NodeIdx, PropertiesId};
 
@@ -254,7 +255,7 @@ impl Entities {
 
     /// The largest external id, or 0 when empty (Kratos `GetMaximumConditionsIds`).
     pub fn max_id(&self) -> u32 {
-        self.ids.iter().copied().max().unwrap_or(0)
+        self.ids.par_iter().copied().max().unwrap_or(0)
     }
 
     /// The columns but the ids and the connectivity (already there, with `by_id`) of the

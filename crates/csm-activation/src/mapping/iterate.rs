@@ -4,6 +4,7 @@
 use csm_geometry::math::{Real, Vector};
 use csm_geometry::{MAX_FACE_NODES, MortarOperators};
 use csm_model::{ConditionIdx, ModelPart, NodeIdx};
+use rayon::prelude::*;
 
 use super::segment::{
     OperatorStore, Segmenting, SlaveMapping, kept_only, kept_pairs, segment_slaves,
@@ -190,8 +191,7 @@ pub(super) fn kratos_iterations(
                     per_slave = Some(kept_only(segment_slaves(m, &s.slave_conditions, &tasks)?));
                 }
                 let per_slave = per_slave.as_deref().unwrap_or_default();
-                vaux.clear();
-                vaux.resize(s.slave_nodes.len(), Vector::zeros());
+                vaux = csm_model::zero_vectors(s.slave_nodes.len());
                 let residual = Residual {
                     store: tasks.store,
                     dim,
@@ -206,43 +206,40 @@ pub(super) fn kratos_iterations(
                 }
             }
         }
-        let mut sums = [0.0; 3];
-        let mut largest: Real = 0.0;
-        // A distributed run: this rank's owned terms, added below in the whole problem's order.
-        let mut terms = Vec::new();
-        for (j, n) in s.slave_nodes.iter().enumerate() {
-            let i = n.index();
-            if area[j].abs() > AREA_TOLERANCE * ref_area {
-                let correction = vaux[j] / area[j];
-                for k in 0..dim {
-                    aux[i][k] += correction[k];
-                }
-                if owned[j] {
-                    largest = largest.max(correction.norm());
-                }
-            }
-            if ranks.is_some() {
-                if owned[j] {
-                    let mut t = [0.0; 3];
-                    for (k, t) in t.iter_mut().enumerate().take(dim) {
-                        *t = vaux[j][k] * vaux[j][k];
+        let tolerance = AREA_TOLERANCE * ref_area;
+        let (mut sums, mut largest) = ([0.0; 3], 0.0);
+        match ranks {
+            None => (sums, largest) = update_one_process(s, (&vaux, area), tolerance, dim, aux),
+            Some(r) => {
+                // This rank's owned terms, added in the whole problem's order.
+                let mut terms = Vec::new();
+                for (j, n) in s.slave_nodes.iter().enumerate() {
+                    let i = n.index();
+                    if area[j].abs() > tolerance {
+                        let correction = vaux[j] / area[j];
+                        for k in 0..dim {
+                            aux[i][k] += correction[k];
+                        }
+                        if owned[j] {
+                            largest = largest.max(correction.norm());
+                        }
                     }
-                    terms.push((node_ids[i], t));
+                    if owned[j] {
+                        let mut t = [0.0; 3];
+                        for (k, t) in t.iter_mut().enumerate().take(dim) {
+                            *t = vaux[j][k] * vaux[j][k];
+                        }
+                        terms.push((node_ids[i], t));
+                    }
                 }
-                continue;
-            }
-            for (k, sum) in sums.iter_mut().enumerate().take(dim) {
-                *sum += vaux[j][k] * vaux[j][k];
-            }
-        }
-        if let Some(r) = ranks {
-            for (_, t) in r.terms(&terms).map_err(Error::aborted)? {
-                for (sum, t) in sums.iter_mut().zip(t).take(dim) {
-                    *sum += t;
+                for (_, t) in r.terms(&terms).map_err(Error::aborted)? {
+                    for (sum, t) in sums.iter_mut().zip(t).take(dim) {
+                        *sum += t;
+                    }
                 }
+                largest = r.max(largest).map_err(Error::aborted)?;
+                exchange_ghosts(m, (s, &owned), r, aux)?;
             }
-            largest = r.max(largest).map_err(Error::aborted)?;
-            exchange_ghosts(m, (s, &owned), r, aux)?;
         }
         for k in 0..dim {
             let r = sums[k].sqrt() / n_d;
@@ -261,6 +258,54 @@ pub(super) fn kratos_iterations(
         end.iterations += 1;
     }
     Ok(end)
+}
+
+/// One iteration's update of a one-process run, in parallel: every slave node with an area
+/// above `tolerance` moves by `vaux / area`; returns the sums of the squared residuals by
+/// component and the largest correction. The same bits as the ordered pass over the slave
+/// nodes: the nodes are independent, a maximum is one in any order, and the sums add the
+/// nodes' non-zero terms in slave order (a term +0, all a node without pairs adds, leaves a
+/// sum as it is; every sum starts at +0 and adds squares, so it is never −0).
+fn update_one_process(
+    s: &Sides,
+    (vaux, area): (&[Vector], &[Real]),
+    tolerance: Real,
+    dim: usize,
+    aux: &mut [Vector],
+) -> ([Real; 3], Real) {
+    let n = s.slave_nodes.len();
+    let moves = |j: usize| area[j].abs() > tolerance;
+    let at = |j: usize| s.slave_nodes[j].index();
+    csm_model::write_at_ascending(aux, n, at, |j, a| {
+        if moves(j) {
+            let correction = vaux[j] / area[j];
+            for k in 0..dim {
+                a[k] += correction[k];
+            }
+        }
+    });
+    let largest = (0..n)
+        .into_par_iter()
+        .filter(|&j| moves(j))
+        .map(|j| (vaux[j] / area[j]).norm())
+        .reduce(|| 0.0, Real::max);
+    let terms: Vec<[Real; 3]> = (0..n)
+        .into_par_iter()
+        .filter_map(|j| {
+            let mut t = [0.0; 3];
+            for (k, t) in t.iter_mut().enumerate().take(dim) {
+                *t = vaux[j][k] * vaux[j][k];
+            }
+            (t != [0.0; 3]).then_some(t)
+        })
+        .collect();
+    let mut sums = [0.0; 3];
+    for t in terms {
+        for (sum, t) in sums.iter_mut().zip(t).take(dim) {
+            *sum += t;
+        }
+    }
+    (sums, largest)
 }
 
 /// A distributed run's ghost slave nodes (`owned[j]` false) take the values `aux` their owners
@@ -331,4 +376,95 @@ pub(super) fn solve_relative(
         .map(|(&a, v)| (a.abs() > tolerance).then(|| v / a))
         .collect();
     (area, relative)
+}
+
+#[cfg(test)]
+mod update_tests {
+    use super::*;
+
+    /// The ordered pass over the slave nodes that [`update_one_process`] replaces.
+    fn ordered(
+        s: &Sides,
+        (vaux, area): (&[Vector], &[Real]),
+        tolerance: Real,
+        dim: usize,
+        aux: &mut [Vector],
+    ) -> ([Real; 3], Real) {
+        let (mut sums, mut largest) = ([0.0; 3], 0.0);
+        for (j, n) in s.slave_nodes.iter().enumerate() {
+            if area[j].abs() > tolerance {
+                let correction = vaux[j] / area[j];
+                for k in 0..dim {
+                    aux[n.index()][k] += correction[k];
+                }
+                largest = Real::max(largest, correction.norm());
+            }
+            for (k, sum) in sums.iter_mut().enumerate().take(dim) {
+                *sum += vaux[j][k] * vaux[j][k];
+            }
+        }
+        (sums, largest)
+    }
+
+    /// The parallel update gives the ordered pass's bits — sums, largest correction and every
+    /// value — on 1 to 4 threads, with most nodes without pairs (zero residual), areas below
+    /// the tolerance, negative zeros and a NaN residual, for 2 and 3 components.
+    #[test]
+    fn parallel_update_is_the_ordered_pass() {
+        let n_nodes = 30_000;
+        // Every third node is a slave node (ascending, as the sides list them).
+        let slave_nodes: Vec<NodeIdx> = (0..n_nodes / 3).map(|j| NodeIdx(3 * j as u32)).collect();
+        let s = Sides {
+            slave_nodes,
+            ..Sides::default()
+        };
+        let n = s.slave_nodes.len();
+        // A fixed pseudo-random sequence (no dependency): values of every magnitude.
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as Real / (1u64 << 53) as Real
+        };
+        for nan in [false, true] {
+            let vaux: Vec<Vector> = (0..n)
+                .map(|j| match j % 7 {
+                    0 | 3 => Vector::new(next() - 0.5, (next() - 0.5) * 1e-9, next() * 1e6),
+                    5 => Vector::new(-0.0, 0.0, -0.0),
+                    6 if nan && j == 6 * 301 => Vector::new(Real::NAN, 1.0, 2.0),
+                    _ => Vector::zeros(),
+                })
+                .collect();
+            let area: Vec<Real> = (0..n)
+                .map(|j| if j % 11 == 0 { 1e-30 } else { next() + 0.1 })
+                .collect();
+            let aux0: Vec<Vector> = (0..n_nodes)
+                .map(|_| Vector::new(next(), next(), next()))
+                .collect();
+            for dim in [2, 3] {
+                let mut expected_aux = aux0.clone();
+                let expected = ordered(&s, (&vaux, &area), 1e-20, dim, &mut expected_aux);
+                for threads in 1..=4 {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads)
+                        .build()
+                        .unwrap();
+                    let mut aux = aux0.clone();
+                    let got = pool
+                        .install(|| update_one_process(&s, (&vaux, &area), 1e-20, dim, &mut aux));
+                    let bits = |(sums, largest): ([Real; 3], Real)| {
+                        (sums.map(Real::to_bits), largest.to_bits())
+                    };
+                    assert_eq!(bits(got), bits(expected), "{threads} threads, dim {dim}");
+                    let same = aux.iter().zip(&expected_aux).all(|(a, b)| {
+                        a.iter()
+                            .zip(b.iter())
+                            .all(|(x, y)| x.to_bits() == y.to_bits())
+                    });
+                    assert!(same, "{threads} threads, dim {dim}: the values differ");
+                }
+            }
+        }
+    }
 }

@@ -54,14 +54,16 @@ pub fn mean_h(model: &ModelPart, sub: PartIdx, inverted: bool) -> Real {
         return 0.0;
     };
     let nflags = model.nodes().flags();
+    // The side's values are gathered in parallel (in the part's order), then summed in that
+    // order: the bits of the one ordered pass.
     let mean = |flag: Flag| -> Real {
-        let side = || {
-            let nodes = model.part(sub).nodes().iter();
-            nodes.filter(|n| nflags[n.index()].is(flag) != inverted)
-        };
-        match side().count() {
+        let values: Vec<Real> = (model.part(sub).nodes().par_iter())
+            .filter(|n| nflags[n.index()].is(flag) != inverted)
+            .map(|n| h[n.index()])
+            .collect();
+        match values.len() {
             0 => 0.0,
-            count => side().map(|n| h[n.index()]).sum::<Real>() / count as Real,
+            count => values.iter().sum::<Real>() / count as Real,
         }
     };
     mean(Flag::SLAVE).max(mean(Flag::MASTER))

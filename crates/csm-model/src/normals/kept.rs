@@ -181,8 +181,9 @@ impl KeptPositions<'_> {
         let (kinds, centres) = (model.conditions(), model.condition_normals());
         let kept = self.table;
         let is_face = |c: ConditionIdx| kinds.kind(c.index()).is_face();
+        // (A check of every face: in parallel.)
         if conditions
-            .iter()
+            .par_iter()
             .any(|&c| is_face(c) && self.of(c).is_none())
         {
             return false;

@@ -225,12 +225,16 @@ pub(super) fn update_mortar_conditions(
     finish_pairs(model, pair, created, condition_id);
     crate::trace::mark("pairing");
     // 8. SetOriginDestinationModelParts: both sides must have conditions.
-    let (mut n_slave, mut n_master) = (0, 0);
-    for c in model.part(sub).conditions() {
-        let f = model.conditions().flags()[c.index()];
-        n_slave += usize::from(f.is(Flag::SLAVE) != inverted);
-        n_master += usize::from(f.is(Flag::MASTER) != inverted);
-    }
+    let cflags = model.conditions().flags();
+    let (n_slave, n_master) = (model.part(sub).conditions().par_iter())
+        .map(|c| {
+            let f = cflags[c.index()];
+            (
+                usize::from(f.is(Flag::SLAVE) != inverted),
+                usize::from(f.is(Flag::MASTER) != inverted),
+            )
+        })
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
     if n_slave == 0 || n_master == 0 {
         return Err(ErrorKind::RejectedByKratos(format!(
             "pair {}: no origin/destination conditions ({n_slave} slave-side, {n_master} \
