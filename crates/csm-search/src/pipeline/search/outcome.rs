@@ -47,9 +47,9 @@ impl ContactSearch {
                     on_slave_side[n.index()].store(true, Ordering::Relaxed);
                 }
             });
-            // A part's conditions are duplicate-free, so each id comes once.
-            slaves.par_sort_unstable_by_key(|(id, _)| *id);
-            let slaves: std::collections::BTreeMap<u32, Vec<u32>> = slaves.into_iter().collect();
+            // A part's conditions are duplicate-free, so each id comes once. (Usually in id
+            // order already: the check runs in parallel, the sort's own check would not.)
+            sort_by_id(&mut slaves);
             let node_flags = model.nodes().flags();
             let mut node_results: Vec<(u32, NodeResult)> = (0..on_slave_side.len())
                 .into_par_iter()
@@ -69,9 +69,15 @@ impl ContactSearch {
                     )
                 })
                 .collect();
-            node_results.par_sort_unstable_by_key(|(id, _)| *id);
+            sort_by_id(&mut node_results);
+            // The two ordered maps are built side by side (each is one serial pass).
+            let (slaves, node_results): (BTreeMap<u32, Vec<u32>>, BTreeMap<u32, NodeResult>) =
+                rayon::join(
+                    || slaves.into_iter().collect(),
+                    || node_results.into_iter().collect(),
+                );
             if result.nodes.is_empty() {
-                result.nodes = node_results.into_iter().collect();
+                result.nodes = node_results;
             } else {
                 result.nodes.extend(node_results);
             }
@@ -85,6 +91,13 @@ impl ContactSearch {
             result.master_slave_constraints = Some(result.paired_conditions);
         }
         result
+    }
+}
+
+/// Sorts `entries` by their (distinct) ids, unless they ascend already.
+fn sort_by_id<T: Send + Sync>(entries: &mut [(u32, T)]) {
+    if !entries.par_windows(2).all(|w| w[0].0 < w[1].0) {
+        entries.par_sort_unstable_by_key(|(id, _)| *id);
     }
 }
 
