@@ -603,3 +603,39 @@ fn ranks_share_exactly_and_stop_together_when_out_of_step() {
         assert_eq!(outcome, Err("the ranks went out of step".to_owned()));
     }
 }
+
+/// The split's id lookups answer the same by table (dense ids) and by hash (sparse ids):
+/// every id asked, present or not, past the largest too.
+#[test]
+fn id_lookups_are_the_same_dense_and_sparse() {
+    let dense_ids: Vec<u32> = (1..=3000).filter(|i| i % 3 != 0).collect();
+    let sparse_ids: Vec<u32> = dense_ids.iter().map(|i| i * 1000).collect();
+    for ids in [&dense_ids, &sparse_ids] {
+        let set = IdSet::new(ids.iter().copied());
+        let dense = matches!(set, IdSet::Dense(_));
+        assert_eq!(
+            dense,
+            ids == &dense_ids,
+            "the table is taken for dense ids only"
+        );
+        let wanted: std::collections::HashSet<u32> = ids.iter().copied().collect();
+        let largest = *ids.last().unwrap();
+        for id in (0..=largest + 5).step_by(if dense { 1 } else { 500 }) {
+            assert_eq!(set.contains(id), wanted.contains(&id), "id {id}");
+        }
+        // Condition nodes by id: one kind, two nodes each.
+        let mut arrays = EntityArrays::default();
+        for &id in ids.iter() {
+            arrays.ids.push(id);
+            arrays.connectivity.extend([id, id + 1]);
+            arrays.properties.push(0);
+        }
+        let by_kind = BTreeMap::from([(csm_geometry::GeometryKind::Line2D2, arrays)]);
+        let by_id = index(&by_kind);
+        assert_eq!(matches!(by_id, ById::Dense(_)), dense);
+        for id in (0..=largest + 5).step_by(if dense { 1 } else { 500 }) {
+            let expected = wanted.contains(&id).then(|| vec![id, id + 1]);
+            assert_eq!(by_id.get(&id).map(|n| n.to_vec()), expected, "id {id}");
+        }
+    }
+}
