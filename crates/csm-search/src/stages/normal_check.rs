@@ -125,6 +125,10 @@ pub fn normal_check(
     normal_check_with_normals(model, settings).map(|(report, _)| report)
 }
 
+/// One element's face test: `None` for a slender element, else the local indices of the nodes
+/// of its inward faces (empty: none).
+type FaceTest = Result<Option<Vec<usize>>, Error>;
+
 /// [`normal_check`], also returning the faces' unit normals it computed last (on the final
 /// coordinates and node orders: [`csm_model::compute_unit_normals_from_kept`] takes them from
 /// there while the geometry does not change).
@@ -144,18 +148,21 @@ pub fn normal_check_with_normals(
 
     // Pass 1: element faces. The geometric tests run in parallel; the flags are set after,
     // in id order (the tests read no flag).
+    // Only the elements with something to record are kept (in id order): most have no
+    // inward face, and a list of every element's outcome was a serial pass after.
     let order = model.elements().indices_by_id();
-    let tests: Vec<Result<Option<Vec<usize>>, Error>> = {
+    let tests: Vec<(usize, FaceTest)> = {
         let m = &*model;
         order
             .par_iter()
             .map_init(
                 || (Vec::<Point>::new(), Vec::<Point>::new()),
-                |(points, face_points), &e| inward_faces(m, e, lp, tol, points, face_points),
+                |(points, face_points), &e| (e, inward_faces(m, e, lp, tol, points, face_points)),
             )
+            .filter(|(_, test)| !matches!(test, Ok(Some(nodes)) if nodes.is_empty()))
             .collect()
     };
-    for (&e, test) in order.iter().zip(tests) {
+    for (e, test) in tests {
         match test? {
             None => report
                 .slender_elements
@@ -191,7 +198,7 @@ pub fn normal_check_with_normals(
     let normals: Vec<Vector> = model
         .nodal_data()
         .vector(VectorVar::Normal, 0)
-        .map(<[Vector]>::to_vec)
+        .map(|column| column.par_iter().copied().collect())
         .unwrap_or_default();
     let mut inward = vec![false; model.nodes().len()];
     let order = model.elements().indices_by_id();
@@ -202,6 +209,7 @@ pub fn normal_check_with_normals(
             .map_init(Vec::<Point>::new, |points, &e| {
                 inward_nodes(m, e, &normals, (lp, tol, kratos), points)
             })
+            .filter(|test| !matches!(test, Ok((nodes, false)) if nodes.is_empty()))
             .collect()
     };
     for test in tests {
