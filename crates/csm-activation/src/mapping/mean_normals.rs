@@ -61,17 +61,22 @@ pub(crate) fn mean_normals(
 /// that a kept pair maps to) and of the master conditions these entries name (their face
 /// data carries nodal normals too, which no 3D computation reads today: cheap insurance).
 pub(crate) fn normals_read(model: &ModelPart, s: &Sides) -> Vec<bool> {
-    let mut read = vec![false; model.nodes().len()];
+    use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
+    // Marked in parallel: every mark is `true`, so the order of the writes does not matter.
+    let read: Vec<AtomicBool> = (0..model.nodes().len())
+        .into_par_iter()
+        .map(|_| AtomicBool::new(false))
+        .collect();
     let conditions = model.conditions();
-    let mut mark = |c: usize| {
+    let mark = |c: usize| {
         for n in conditions.nodes(c) {
-            read[n.index()] = true;
+            read[n.index()].store(true, Relaxed);
         }
     };
-    for &sc in &s.slave_conditions {
+    s.slave_conditions.par_iter().for_each(|&sc| {
         let map = model.index_map(sc);
         if map.is_empty() {
-            continue;
+            return;
         }
         mark(sc.index());
         for (master, _) in map.iter() {
@@ -79,6 +84,6 @@ pub(crate) fn normals_read(model: &ModelPart, s: &Sides) -> Vec<bool> {
                 mark(mc);
             }
         }
-    }
-    read
+    });
+    read.into_par_iter().map(AtomicBool::into_inner).collect()
 }

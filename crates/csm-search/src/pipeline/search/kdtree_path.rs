@@ -454,42 +454,71 @@ pub(super) struct SlaveCandidates {
 }
 
 impl SlaveCandidates {
-    /// From the chunks of the queries in `order` (slave positions along the curve).
+    /// From the chunks of the queries in `order` (slave positions along the curve: a
+    /// permutation of the slave positions).
+    ///
+    /// In parallel, with no fresh memory touched on one thread: each query's place (its chunk
+    /// and offset there) is written at its slave's position (each position once: the writes
+    /// do not depend on their order), then the candidates are copied in blocks of slaves.
     fn in_slave_order(order: &[usize], chunks: Vec<QueryChunk>) -> SlaveCandidates {
+        use std::sync::atomic::{AtomicU32, AtomicU64, Ordering::Relaxed};
         let n = order.len();
-        let mut count = vec![0u32; n];
-        let mut error: Option<(usize, Error)> = None;
+        let mut first = Vec::with_capacity(chunks.len());
         let mut j = 0;
         for chunk in &chunks {
-            for &c in &chunk.counts {
-                count[order[j]] = c;
-                j += 1;
-            }
+            first.push(j);
+            j += chunk.counts.len();
         }
+        // Per slave position: its query's chunk (high half) and offset in that chunk's list
+        // (low half), and its number of candidates.
+        let place: Vec<AtomicU64> = (0..n).into_par_iter().map(|_| AtomicU64::new(0)).collect();
+        let count: Vec<AtomicU32> = (0..n).into_par_iter().map(|_| AtomicU32::new(0)).collect();
+        chunks.par_iter().enumerate().for_each(|(ci, chunk)| {
+            let mut from = 0u64;
+            for (q, &c) in chunk.counts.iter().enumerate() {
+                let k = order[first[ci] + q];
+                place[k].store(((ci as u64) << 32) | from, Relaxed);
+                count[k].store(c, Relaxed);
+                from += u64::from(c);
+            }
+        });
         let mut start = Vec::with_capacity(n + 1);
         start.push(0u32);
         let mut total = 0u32;
         for c in &count {
-            total += c;
+            total += c.load(Relaxed);
             start.push(total);
         }
-        let mut list = vec![
-            Candidate {
+        let mut list: Vec<Candidate> = (0..total as usize)
+            .into_par_iter()
+            .map(|_| Candidate {
                 master: ConditionIdx(0),
-                node_pass: 0
-            };
-            total as usize
-        ];
-        let mut j = 0;
-        for chunk in chunks {
-            let mut from = 0usize;
-            for &c in &chunk.counts {
-                let k = order[j];
-                let to = start[k] as usize;
-                list[to..to + c as usize].copy_from_slice(&chunk.list[from..from + c as usize]);
-                from += c as usize;
-                j += 1;
+                node_pass: 0,
+            })
+            .collect();
+        // The list cut at block boundaries (a block's slaves are consecutive there).
+        const BLOCK: usize = 2048;
+        let mut blocks = Vec::with_capacity(n.div_ceil(BLOCK));
+        let mut rest = list.as_mut_slice();
+        for b in (0..n).step_by(BLOCK) {
+            let e = (b + BLOCK).min(n);
+            let (head, tail) =
+                std::mem::take(&mut rest).split_at_mut((start[e] - start[b]) as usize);
+            blocks.push((b..e, head));
+            rest = tail;
+        }
+        blocks.into_par_iter().for_each(|(slaves, out)| {
+            let mut to = 0;
+            for k in slaves {
+                let at = place[k].load(Relaxed);
+                let (ci, from) = ((at >> 32) as usize, (at & u64::from(u32::MAX)) as usize);
+                let c = count[k].load(Relaxed) as usize;
+                out[to..to + c].copy_from_slice(&chunks[ci].list[from..from + c]);
+                to += c;
             }
+        });
+        let mut error: Option<(usize, Error)> = None;
+        for chunk in chunks {
             if let Some((k, e)) = chunk.error
                 && error.as_ref().is_none_or(|(first, _)| k < *first)
             {
