@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Output};
 use std::sync::Arc;
 
-use csm::distributed::{MpiTransport, distributed_pair, search_rank};
+use csm::distributed::{MpiTransport, distributed_plan, search_rank};
 use csm::model::Transport;
 use csm::search::{ContactSearch, SearchResult, parse_setup};
 
@@ -165,7 +165,7 @@ fn sweep() -> ExitCode {
     for fixture in fixtures() {
         let model = csm::io::read_mesh(&fixture.mesh).expect("a fixture mesh reads");
         let setup = parse_setup(&fixture.setup, &fixture.name).expect("a fixture setup parses");
-        if let Err(why) = distributed_pair(&setup) {
+        if let Err(why) = distributed_plan(&setup) {
             // Refused alike on every rank, with the reason.
             let err = search_rank(Arc::clone(&transport), &model.to_arrays(), &setup)
                 .expect_err("refused");

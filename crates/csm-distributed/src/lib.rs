@@ -25,7 +25,10 @@ mod threads;
 #[cfg(feature = "mpi")]
 pub use mpi::MpiTransport;
 pub use partitioned::search_partitioned;
-pub use run::{RankTimes, RunError, distributed_pair, fail_rank, search_rank, search_rank_timed};
+pub use run::{
+    DistributedPlan, RankTimes, RunError, distributed_plan, fail_rank, search_rank,
+    search_rank_timed,
+};
 pub use threads::{ThreadTransport, thread_ranks};
 
 use csm_geometry::GeometryKind;
@@ -122,6 +125,11 @@ pub struct Reach {
     /// candidates set, in the kd-tree's candidate order; the octree is refined around every
     /// master-side node).
     pub every_master: bool,
+    /// Every rank holds every contact condition (slaves and masters) and the elements around
+    /// them: for a search whose pairs depend on a decision over the whole contact area
+    /// (roles decided automatically, several pairs, Kratos' octree loop). Implies
+    /// [`Reach::every_master`].
+    pub every_condition: bool,
 }
 
 impl Reach {
@@ -131,6 +139,7 @@ impl Reach {
         Reach {
             factor: 4.0 * search_factor.max(1.0) + 2.0,
             every_master: false,
+            every_condition: false,
         }
     }
 
@@ -138,6 +147,15 @@ impl Reach {
     pub fn with_every_master(self) -> Reach {
         Reach {
             every_master: true,
+            ..self
+        }
+    }
+
+    /// This reach, holding every contact condition ([`Reach::every_condition`]).
+    pub fn with_every_condition(self) -> Reach {
+        Reach {
+            every_master: true,
+            every_condition: true,
             ..self
         }
     }
@@ -306,6 +324,10 @@ fn parts_of(
         let mut held: Vec<usize> = owned.clone();
         for &s in &owned {
             held_slave[s] = true;
+        }
+        if reach.every_condition {
+            held = (0..slave_ids.len()).collect();
+            held_slave.fill(true);
         }
         for _ in 0..2 {
             for k in 0..held.len() {

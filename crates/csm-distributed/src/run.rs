@@ -6,7 +6,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use csm_model::{MeshArrays, ModelPart, Ranks, Transport};
-use csm_search::{ContactSearch, PairSetup, SearchResult, SearchSetup};
+use csm_search::{ContactSearch, SearchResult, SearchSetup, SearchTreeType};
 
 use crate::codec::{decode_result, encode_result};
 use crate::{RankPart, Reach, split_rank};
@@ -46,11 +46,28 @@ impl From<csm_search::Error> for Stop {
     }
 }
 
-/// The one pair a distributed run searches, with its slave and contact parts, or why the
-/// setup cannot run distributed yet (`docs/distributed.md`, "What runs").
-pub fn distributed_pair(setup: &SearchSetup) -> Result<(u32, &PairSetup), String> {
+/// How a distributed run splits a setup's contact area (`docs/distributed.md`, "What runs").
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DistributedPlan {
+    /// The parts whose conditions the ranks own (each condition one rank, by the recursive
+    /// coordinate bisection; a node goes with its lowest-id condition there): the pairs' slave
+    /// parts, or every contact part where every rank holds the whole area.
+    pub owned_parts: Vec<String>,
+    /// Every contact part of the pairs.
+    pub contact_parts: Vec<String>,
+    /// Why every rank holds the whole contact area (every contact condition and its
+    /// elements), where a pair depends on a decision over all of it; `None`: a rank holds
+    /// its owned conditions and what they read.
+    pub whole_area: Option<&'static str>,
+}
+
+/// How a distributed run takes `setup`, or why it cannot run distributed yet
+/// (`docs/distributed.md`, "What runs").
+pub fn distributed_plan(setup: &SearchSetup) -> Result<DistributedPlan, String> {
     let refuse = |what: &str| Err(format!("a distributed run does not support {what} yet"));
     if setup.pairs.len() != 1 {
+        // A second pair searches the paired conditions the first one made too, which are
+        // in no rank's mesh (docs/distributed.md).
         return refuse(&format!(
             "{} contact pairs (one `contact_model_part` key)",
             setup.pairs.len()
@@ -65,26 +82,51 @@ pub fn distributed_pair(setup: &SearchSetup) -> Result<(u32, &PairSetup), String
     if setup.adapt_search {
         return refuse("`adapt_search`");
     }
-    let (&key, pair) = setup.pairs.iter().next().expect("one pair");
-    if pair.search.type_search == csm_search::SearchTreeType::OctreeWithObb
-        && setup.compatibility == csm_search::Compatibility::Kratos
-    {
-        // Kratos' loop carries SELECTED flags from condition to condition in id order: a
-        // master still SELECTED by an earlier slave pairs with the SELECTED masters of its
-        // leaves (Q14), so a pair depends on slaves anywhere before it (`docs/distributed.md`).
-        return refuse(
-            "`\"type_search\": \"octree_with_obb\"` in kratos mode (use \"compatibility\": \
-             \"robust\" or a kd-tree search type)",
-        );
-    }
-    if pair.slaves.is_empty() {
-        return refuse("roles decided automatically (give `assume_master_slave`)");
-    }
-    if pair.search.inverted_search {
+    if setup.pairs.values().any(|p| p.search.inverted_search) {
         // Its pairs are keyed by the master-side conditions, which no rank owns.
         return refuse("`inverted_search`");
     }
-    Ok((key, pair))
+    let automatic = setup.pairs.values().any(|p| p.slaves.is_empty());
+    let whole_area = if automatic {
+        // The roles come from a search over the whole pair and a walk over its conditions
+        // in adjacency order (reference §12).
+        Some("roles decided automatically")
+    } else if setup.compatibility == csm_search::Compatibility::Kratos
+        && (setup.pairs.values()).any(|p| p.search.type_search == SearchTreeType::OctreeWithObb)
+    {
+        // Kratos' loop carries SELECTED flags from condition to condition in id order: a
+        // master still SELECTED by an earlier slave pairs with the SELECTED masters of its
+        // leaves (Q14), so a pair depends on slaves anywhere before it.
+        Some("kratos mode's octree")
+    } else {
+        None
+    };
+    let mut owned_parts: Vec<String> = Vec::new();
+    let mut contact_parts: Vec<String> = Vec::new();
+    for pair in setup.pairs.values() {
+        // Holding the whole area, the ranks own every contact condition (Kratos' octree
+        // also pairs master conditions with masters: their paired conditions count too).
+        let owned = if whole_area.is_some() {
+            &pair.parts
+        } else {
+            &pair.slaves
+        };
+        for name in owned {
+            if !owned_parts.contains(name) {
+                owned_parts.push(name.clone());
+            }
+        }
+        for name in &pair.parts {
+            if !contact_parts.contains(name) {
+                contact_parts.push(name.clone());
+            }
+        }
+    }
+    Ok(DistributedPlan {
+        owned_parts,
+        contact_parts,
+        whole_area,
+    })
 }
 
 /// One rank of a distributed search of `mesh` with `setup`: every rank passes the same whole
@@ -155,7 +197,7 @@ pub(crate) fn with_interfaces(
             .is_some_and(|p| p.conditions.is_empty())
     });
     // (A setup a distributed run refuses is refused after this, with its reason.)
-    if !empty_part || distributed_pair(setup).is_err() {
+    if !empty_part || distributed_plan(setup).is_err() {
         return Ok(None);
     }
     let mut model = ModelPart::from_arrays(&setup.model_part_name, mesh)
@@ -189,10 +231,23 @@ pub(crate) fn with_interfaces(
             ..Default::default()
         },
     );
+    // A pair whose roles are decided automatically: its generated conditions, which the
+    // ranks' searches give stage 1's roles (MASTER: no node is SLAVE then).
+    if setup.pairs.values().any(|p| p.slaves.is_empty()) {
+        arrays.parts.insert(
+            csm_search::GENERATED_CONDITIONS_PART.to_owned(),
+            csm_model::PartArrays {
+                conditions: (before..ids.len()).map(|c| ids[c]).collect(),
+                ..Default::default()
+            },
+        );
+    }
     let mut setup = setup.clone();
     setup.warnings.extend(warnings);
     setup.interfaces_generated = true;
-    for pair in setup.pairs.values_mut() {
+    // (A pair whose roles are decided automatically has no slave part to extend: its
+    // generated conditions are in its contact parts, which the ranks own then.)
+    for pair in setup.pairs.values_mut().filter(|p| !p.slaves.is_empty()) {
         pair.slaves.push(GENERATED_SLAVES.to_owned());
     }
     Ok(Some((arrays, setup)))
@@ -240,7 +295,7 @@ fn rank_search(
     times: &mut RankTimes,
 ) -> Result<(Ranks, RankPart, SearchResult), Stop> {
     let start = Instant::now();
-    let (key, pair) = distributed_pair(setup).map_err(Stop::Failed)?;
+    let plan = distributed_plan(setup).map_err(Stop::Failed)?;
     if let Some(w) = mesh.node_ids.windows(2).find(|w| w[0] >= w[1]) {
         return Err(Stop::Failed(format!(
             "a distributed run needs the nodes in ascending id order (the order of the global \
@@ -256,17 +311,24 @@ fn rank_search(
     {
         return Err(Stop::Failed(message));
     }
-    let slaves: Vec<&str> = pair.slaves.iter().map(String::as_str).collect();
-    let contact: Vec<&str> = pair.parts.iter().map(String::as_str).collect();
-    let reach = Reach::for_search_factor(pair.search.search_factor);
+    let slaves: Vec<&str> = plan.owned_parts.iter().map(String::as_str).collect();
+    let contact: Vec<&str> = plan.contact_parts.iter().map(String::as_str).collect();
+    let factor = (setup.pairs.values())
+        .map(|p| p.search.search_factor)
+        .fold(0.0, f64::max);
+    let reach = Reach::for_search_factor(factor);
     // Kratos' DirectCheck reads the ACTIVE flags its earlier candidates set, in the kd-tree's
     // candidate order: the tree over every master gives each rank the one-process order.
-    let kratos_direct = pair.search.check_gap == csm_search::CheckGap::DirectCheck
-        && setup.compatibility == csm_search::Compatibility::Kratos;
+    let kratos = setup.compatibility == csm_search::Compatibility::Kratos;
+    let kratos_direct = kratos
+        && (setup.pairs.values()).any(|p| p.search.check_gap == csm_search::CheckGap::DirectCheck);
     // The octree is refined around every master node and holds every master condition: with
     // all of them (and the ranks' common root box) each rank builds the one-process octree.
-    let octree = pair.search.type_search == csm_search::SearchTreeType::OctreeWithObb;
-    let reach = if kratos_direct || octree {
+    let octree =
+        (setup.pairs.values()).any(|p| p.search.type_search == SearchTreeType::OctreeWithObb);
+    let reach = if plan.whole_area.is_some() {
+        reach.with_every_condition()
+    } else if kratos_direct || octree {
         reach.with_every_master()
     } else {
         reach
@@ -317,7 +379,8 @@ fn rank_search(
     times.search = start.elapsed().as_secs_f64();
     // The paired conditions of the owned slaves (a result counts every one).
     let ids = model.conditions().ids();
-    result.paired_conditions = (search.paired_conditions(key).iter())
+    result.paired_conditions = (setup.pairs.keys())
+        .flat_map(|&key| search.paired_conditions(key))
         .filter(|pc| ranks.owns_condition(ids[pc.slave.index()]))
         .count();
     Ok((ranks, part, result))

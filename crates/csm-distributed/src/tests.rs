@@ -283,6 +283,34 @@ fn interfaces_generated_from_the_elements_give_the_one_process_result() {
             }
         }
     }
+    // Roles decided automatically: the generated conditions are all MASTER (no node is
+    // SLAVE), the ranks give them that role and hold the whole contact area.
+    for name in ["stacked_blocks.mdpa", "sphere_on_plate_tri.mdpa"] {
+        let mut mesh = scene(name);
+        mesh.conditions.clear();
+        for part in mesh.parts.values_mut() {
+            part.conditions.clear();
+        }
+        for mode in ["kratos", "robust"] {
+            let text = format!(
+                r#"{{"contact_model_part": {{"0": ["Parts_Slave", "Parts_Master"]}},
+                    "compatibility": "{mode}"}}"#
+            );
+            let setup = parse_setup(&text, "<setup>").expect("parses");
+            let mut model = ModelPart::from_arrays("Structure", &mesh).expect("a model");
+            let serial = (ContactSearch::initialize(&mut model, &setup))
+                .and_then(|mut s| s.step(&mut model))
+                .expect("the one-process search");
+            assert!(serial.n_pairs() > 0, "{name}, automatic roles: pairs found");
+            for ranks in 1..=3 {
+                let got = on_threads(ranks, &mesh, &setup).expect("the distributed search");
+                assert_eq!(
+                    got, serial,
+                    "{name}, automatic roles, {mode}, {ranks} ranks"
+                );
+            }
+        }
+    }
     // A load condition with every node at one point, on no contact part: the one-process
     // normal check stops at it, and so does every rank.
     let mut mesh = scene("stacked_blocks.mdpa");
@@ -448,27 +476,97 @@ fn one_rank_failing_stops_every_rank_with_its_message() {
 #[test]
 fn unsupported_setups_are_refused_with_a_reason() {
     let mesh = scene("stacked_blocks.mdpa");
-    let octree = test_setup(false, "octree_with_obb", "kratos");
-    let err = on_threads(2, &mesh, &octree).expect_err("refused");
-    assert_eq!(
-        err.0,
-        "rank 0 of 2: a distributed run does not support `\"type_search\": \"octree_with_obb\"` \
-         in kratos mode (use \"compatibility\": \"robust\" or a kd-tree search type) yet"
-    );
-    let automatic = parse_setup(
-        r#"{"contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]}}"#,
-        "<setup>",
-    )
-    .unwrap();
-    let err = on_threads(2, &mesh, &automatic).expect_err("refused");
-    assert!(err.0.contains("assume_master_slave"), "{err}");
     // An inverted search keys its pairs by master-side conditions, which no rank owns.
     let mut inverted = test_setup(false, "in_radius", "robust");
     for pair in inverted.pairs.values_mut() {
         pair.search.inverted_search = true;
     }
     let err = on_threads(2, &mesh, &inverted).expect_err("refused");
-    assert!(err.0.contains("inverted_search"), "{err}");
+    assert_eq!(
+        err.0,
+        "rank 0 of 2: a distributed run does not support `inverted_search` yet"
+    );
+    let mut steps = test_setup(false, "in_radius", "robust");
+    steps.adapt_search = true;
+    let err = on_threads(2, &mesh, &steps).expect_err("refused");
+    assert!(err.0.contains("`adapt_search`"), "{err}");
+    // A second pair searches the paired conditions the first one made too.
+    let two_pairs = parse_setup(
+        r#"{"contact_model_part": {"0": ["Parts_Slave", "Parts_Master"],
+                                   "1": ["Parts_Master", "Parts_Slave"]},
+            "assume_master_slave": {"0": ["Parts_Slave"], "1": ["Parts_Master"]}}"#,
+        "<setup>",
+    )
+    .expect("parses");
+    let err = on_threads(2, &mesh, &two_pairs).expect_err("refused");
+    assert!(err.0.contains("2 contact pairs"), "{err}");
+}
+
+/// The setups whose pairs depend on a decision over the whole contact area (Kratos'
+/// octree loop, roles decided automatically): every rank holds the whole
+/// contact area ([`Reach::every_condition`]) and the result is the one-process result (or
+/// its error), on 1 to 4 ranks.
+#[test]
+fn whole_area_setups_give_the_one_process_result() {
+    let automatic = r#"{"contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]}}"#;
+    let mut checked = 0;
+    for name in [
+        "stacked_blocks.mdpa",
+        "sphere_on_plate_tri.mdpa",
+        "cylinder_on_block_2d.mdpa",
+    ] {
+        let mesh = scene(name);
+        let setups = [
+            (
+                "kratos octree",
+                test_setup(false, "octree_with_obb", "kratos"),
+            ),
+            (
+                "kratos octree, no check",
+                setup_with(
+                    true,
+                    "octree_with_obb",
+                    "kratos",
+                    r#", "check_gap": "no_check""#,
+                ),
+            ),
+            (
+                "automatic roles",
+                parse_setup(automatic, "<setup>").expect("parses"),
+            ),
+        ];
+        for (what, setup) in setups {
+            assert!(
+                distributed_plan(&setup).is_ok_and(|p| p.whole_area.is_some()),
+                "{what}"
+            );
+            let mut model = ModelPart::from_arrays("Structure", &mesh).expect("a model");
+            let serial = (ContactSearch::initialize(&mut model, &setup))
+                .and_then(|mut s| s.step(&mut model))
+                .map_err(|e| e.to_string());
+            if serial
+                .as_ref()
+                .is_ok_and(|r| r.pairs.values().any(|m| !m.is_empty()))
+            {
+                checked += 1;
+            }
+            for ranks in 1..=4 {
+                let got = on_threads(ranks, &mesh, &setup);
+                match (&got, &serial) {
+                    (Ok(got), Ok(serial)) => {
+                        assert_eq!(got, serial, "{name}, {what}, {ranks} ranks")
+                    }
+                    (Err(got), Err(serial)) => assert!(
+                        got.0.ends_with(serial.as_str()),
+                        "{name}, {what}, {ranks} ranks: {got} against {serial}"
+                    ),
+                    _ => panic!("{name}, {what}, {ranks} ranks: {got:?} against {serial:?}"),
+                }
+            }
+        }
+    }
+    // Most of them find pairs (not only the same error).
+    assert!(checked >= 4, "{checked} setups with pairs");
 }
 
 /// Piece `rank` of `ranks` of a mesh as a host code might hold it: the elements and the

@@ -51,9 +51,9 @@ mod plan;
 pub mod scenes;
 mod trace;
 pub use pipeline::{
-    ContactSearch, MappingTuning, NodeResult, PairGlobals, PairedCondition, QueryOrder,
-    SearchResult, SearchTuning, StepResult, TruthScene, generate_interfaces_first,
-    kratos_renumbering, passes_orientation,
+    ContactSearch, GENERATED_CONDITIONS_PART, MappingTuning, NodeResult, PairGlobals,
+    PairedCondition, QueryOrder, SearchResult, SearchTuning, StepResult, TruthScene,
+    generate_interfaces_first, kratos_renumbering, passes_orientation,
 };
 pub use plan::{
     Activation, Decision, InterfaceAction, KdQuery, NodalHSource, NodalVariable, NormalCheck,

@@ -29,7 +29,10 @@ pub use globals::PairGlobals;
 pub use result::{NodeResult, SearchResult, StepResult};
 pub use search::TruthScene;
 pub(crate) use search::locate;
-pub use search::{ContactSearch, PairedCondition, generate_interfaces_first, kratos_renumbering};
+pub use search::{
+    ContactSearch, GENERATED_CONDITIONS_PART, PairedCondition, generate_interfaces_first,
+    kratos_renumbering,
+};
 #[cfg(test)]
 pub(crate) use search::{by_slave, morton_order};
 pub use tuning::{MappingTuning, QueryOrder, SearchTuning};

@@ -56,6 +56,9 @@ impl ContactSearch {
             Some(contact) => existing_contact_parts(model, contact, &setup)?,
             None => {
                 let mut parts = assign_contact_flags(model, &setup)?;
+                if setup.interfaces_generated {
+                    generated_roles(model, setup.compatibility == Compatibility::Kratos);
+                }
                 if setup.skin {
                     skin_roles(model, &setup);
                 }
@@ -300,6 +303,36 @@ pub fn generate_interfaces_first(
     let python_path = !setup.cpp_search_parameters;
     interface_stage(model, setup, python_path, (&mut parts, &mut warnings))?;
     Ok(Some(warnings))
+}
+
+/// The part that lists, in a mesh whose interface conditions were generated before
+/// ([`generate_interfaces_first`], [`SearchSetup::interfaces_generated`]), the generated
+/// conditions whose roles no slave part gives (a pair whose roles are decided
+/// automatically): the search gives them the roles stage 1 gave them.
+pub const GENERATED_CONDITIONS_PART: &str = "CsmGeneratedConditions";
+
+/// Stage 1's roles for the conditions of [`GENERATED_CONDITIONS_PART`], where the model has
+/// that part: SLAVE where every node of the condition is SLAVE, else MASTER; the other flag
+/// false in robust mode and left as it is in kratos mode (as `generate_condition` does).
+fn generated_roles(model: &mut ModelPart, kratos: bool) {
+    let Some(part) = model.find_part(GENERATED_CONDITIONS_PART) else {
+        return;
+    };
+    let conditions = model.part(part).conditions().to_vec();
+    for c in conditions {
+        let slave = (model.conditions().nodes(c.index()).iter())
+            .all(|n| model.nodes().flags()[n.index()].is(Flag::SLAVE));
+        let (set, other) = if slave {
+            (Flag::SLAVE, Flag::MASTER)
+        } else {
+            (Flag::MASTER, Flag::SLAVE)
+        };
+        let flags = &mut model.conditions_mut().flags_mut()[c.index()];
+        flags.set(set, true);
+        if !kratos {
+            flags.set(other, false);
+        }
+    }
 }
 
 /// Sets `flag` to `value` on every condition of `part` (in parallel: the part lists its

@@ -46,7 +46,7 @@ use crate::stages::{
 
 mod check_pairing;
 mod initialize;
-pub use initialize::{generate_interfaces_first, kratos_renumbering};
+pub use initialize::{GENERATED_CONDITIONS_PART, generate_interfaces_first, kratos_renumbering};
 mod kdtree_path;
 mod mortar_conditions;
 mod outcome;
