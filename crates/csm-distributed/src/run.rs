@@ -55,9 +55,10 @@ pub struct DistributedPlan {
     pub owned_parts: Vec<String>,
     /// Every contact part of the pairs.
     pub contact_parts: Vec<String>,
-    /// Why every rank holds the whole contact area (every contact condition and its
-    /// elements), where a pair depends on a decision over all of it; `None`: a rank holds
-    /// its owned conditions and what they read.
+    /// Why every rank searches the whole mesh, where a pair depends on a decision over the
+    /// whole contact area (the ranks then own the contact conditions of their bisection and
+    /// rank 0 the conditions the search makes); `None`: a rank holds its owned conditions
+    /// and what they read.
     pub whole_area: Option<&'static str>,
 }
 
@@ -65,16 +66,8 @@ pub struct DistributedPlan {
 /// (`docs/distributed.md`, "What runs").
 pub fn distributed_plan(setup: &SearchSetup) -> Result<DistributedPlan, String> {
     let refuse = |what: &str| Err(format!("a distributed run does not support {what} yet"));
-    if setup.pairs.len() != 1 {
-        // A second pair searches the paired conditions the first one made too, which are
-        // in no rank's mesh (docs/distributed.md).
-        return refuse(&format!(
-            "{} contact pairs (one `contact_model_part` key)",
-            setup.pairs.len()
-        ));
-    }
-    if setup.skin {
-        return refuse("skin detection (empty `contact_model_part` lists)");
+    if setup.pairs.is_empty() {
+        return refuse("a setup without contact pairs");
     }
     if !setup.steps.is_empty() {
         return refuse("multi-step runs (`steps`)");
@@ -87,7 +80,13 @@ pub fn distributed_plan(setup: &SearchSetup) -> Result<DistributedPlan, String> 
         return refuse("`inverted_search`");
     }
     let automatic = setup.pairs.values().any(|p| p.slaves.is_empty());
-    let whole_area = if automatic {
+    let whole_area = if setup.skin {
+        // The contact faces are found on the whole mesh's skin.
+        Some("skin detection")
+    } else if setup.pairs.len() > 1 {
+        // A later pair searches the paired conditions the earlier ones made.
+        Some("several contact pairs")
+    } else if automatic {
         // The roles come from a search over the whole pair and a walk over its conditions
         // in adjacency order (reference §12).
         Some("roles decided automatically")
@@ -261,9 +260,9 @@ pub(crate) fn gathered_results(
     setup: &SearchSetup,
     times: &mut RankTimes,
 ) -> Result<(usize, Vec<Vec<u8>>), RunError> {
-    let outcome = rank_search(transport, mesh, setup, times).and_then(|(ranks, part, result)| {
+    let outcome = rank_search(transport, mesh, setup, times).and_then(|(ranks, _, result)| {
         let start = Instant::now();
-        let owned = owned_result(&part, &result);
+        let owned = owned_result(&ranks, &result);
         let all = ranks.gather_bytes(&encode_result(&owned))?;
         times.search += start.elapsed().as_secs_f64();
         Ok((ranks.rank(), all))
@@ -336,34 +335,62 @@ fn rank_search(
     // With fewer slave conditions than ranks, the ranks past them search a copy of another
     // rank's part and own nothing: every rank takes part in every exchange.
     let (ranks, rank) = (transport.ranks(), transport.rank());
-    let with_slaves = slave_condition_count(mesh, &slaves).clamp(1, ranks);
-    let mut part = split_rank(
-        mesh,
-        (&slaves, &contact),
-        (with_slaves, rank % with_slaves),
-        reach,
-    )
-    .map(|mut part| {
-        if rank >= with_slaves {
-            part.owned_conditions.clear();
-            part.owned_nodes.clear();
+    let owners = slave_condition_count(mesh, &slaves);
+    let whole = plan.whole_area.is_some();
+    let mut part = if whole && owners == 0 {
+        // No condition of the mesh is a contact one before the search (skin detection):
+        // rank 0 owns every condition and node.
+        let first = rank == 0;
+        RankPart {
+            mesh: MeshArrays::default(),
+            owned_conditions: if first {
+                condition_ids(mesh)
+            } else {
+                Vec::new()
+            },
+            owned_nodes: if first {
+                mesh.node_ids.clone()
+            } else {
+                Vec::new()
+            },
         }
-        part
-    })
-    .map_err(|e| match e {
-        crate::SplitError::NoSlaves => Stop::Failed(
-            "a distributed run does not support slave parts without conditions yet (Kratos \
-             generates their interface conditions from the elements: give the contact \
-             conditions in the mesh)"
-                .to_owned(),
-        ),
-        e => Stop::Failed(e.to_string()),
-    })?;
-    let ranks = Ranks::new(
+    } else {
+        let with_slaves = owners.clamp(1, ranks);
+        split_rank(
+            mesh,
+            (&slaves, &contact),
+            (with_slaves, rank % with_slaves),
+            reach,
+        )
+        .map(|mut part| {
+            if rank >= with_slaves {
+                part.owned_conditions.clear();
+                part.owned_nodes.clear();
+            }
+            part
+        })
+        .map_err(|e| match e {
+            crate::SplitError::NoSlaves => Stop::Failed(
+                "a distributed run does not support slave parts without conditions yet \
+                 (Kratos generates their interface conditions from the elements: give the \
+                 contact conditions in the mesh)"
+                    .to_owned(),
+            ),
+            e => Stop::Failed(e.to_string()),
+        })?
+    };
+    let mut ranks = Ranks::new(
         Arc::clone(transport),
         &part.owned_nodes,
         &part.owned_conditions,
     );
+    if whole {
+        // Every rank searches the whole mesh: the same model, the same ids for the
+        // conditions the search makes (a later pair searches the paired conditions an
+        // earlier one made), which are rank 0's.
+        part.mesh = mesh.clone();
+        ranks = ranks.with_made_conditions_on_first(&condition_ids(mesh));
+    }
     // The part's arrays are not needed once its model is built (the owned ids are kept).
     let arrays = std::mem::take(&mut part.mesh);
     let mut model = ModelPart::from_arrays(&setup.model_part_name, &arrays)
@@ -438,15 +465,13 @@ fn slave_condition_count(mesh: &MeshArrays, slaves: &[&str]) -> usize {
 
 /// The rank's result for what it owns: its owned slave conditions' pairs (and pruned
 /// entries), its owned slave nodes' results, its warnings.
-fn owned_result(part: &RankPart, result: &SearchResult) -> SearchResult {
-    let conditions: BTreeSet<u32> = part.owned_conditions.iter().copied().collect();
-    let nodes: BTreeSet<u32> = part.owned_nodes.iter().copied().collect();
+fn owned_result(ranks: &Ranks, result: &SearchResult) -> SearchResult {
     let keep = |maps: &BTreeMap<String, BTreeMap<u32, Vec<u32>>>| {
         maps.iter()
             .map(|(key, map)| {
                 let owned = map
                     .iter()
-                    .filter(|(id, _)| conditions.contains(id))
+                    .filter(|(id, _)| ranks.owns_condition(**id))
                     .map(|(id, masters)| (*id, masters.clone()))
                     .collect();
                 (key.clone(), owned)
@@ -457,7 +482,7 @@ fn owned_result(part: &RankPart, result: &SearchResult) -> SearchResult {
         pairs: keep(&result.pairs),
         pruned: keep(&result.pruned),
         nodes: (result.nodes.iter())
-            .filter(|(id, _)| nodes.contains(id))
+            .filter(|(id, _)| ranks.owns_node(**id))
             .map(|(id, r)| (*id, *r))
             .collect(),
         warnings: result.warnings.clone(),
@@ -465,6 +490,15 @@ fn owned_result(part: &RankPart, result: &SearchResult) -> SearchResult {
         master_slave_constraints: result.master_slave_constraints,
         ..SearchResult::default()
     }
+}
+
+/// The condition ids of `mesh`, ascending.
+fn condition_ids(mesh: &MeshArrays) -> Vec<u32> {
+    let mut ids: Vec<u32> = (mesh.conditions.values())
+        .flat_map(|a| a.ids.iter().copied())
+        .collect();
+    ids.sort_unstable();
+    ids
 }
 
 /// The ranks' owned results as one: pairs and nodes together, the warnings of every rank in

@@ -59,6 +59,9 @@ pub struct Ranks {
     transport: Arc<dyn Transport>,
     owned_nodes: Arc<HashSet<u32>>,
     owned_conditions: Arc<HashSet<u32>>,
+    /// Where set, the conditions of the mesh: those the search makes (paired conditions, skin
+    /// conditions) are rank 0's.
+    listed_conditions: Option<Arc<HashSet<u32>>>,
 }
 
 impl fmt::Debug for Ranks {
@@ -91,6 +94,16 @@ impl Ranks {
             transport,
             owned_nodes: Arc::new(owned_nodes.iter().copied().collect()),
             owned_conditions: Arc::new(owned_conditions.iter().copied().collect()),
+            listed_conditions: None,
+        }
+    }
+
+    /// This handle, where every rank holds the same whole model: the conditions that are not
+    /// in `listed` (the mesh's condition ids) — those the search makes — are rank 0's.
+    pub fn with_made_conditions_on_first(self, listed: &[u32]) -> Ranks {
+        Ranks {
+            listed_conditions: Some(Arc::new(listed.iter().copied().collect())),
+            ..self
         }
     }
 
@@ -112,6 +125,8 @@ impl Ranks {
     /// Whether this rank owns the slave condition `id`.
     pub fn owns_condition(&self, id: u32) -> bool {
         self.owned_conditions.contains(&id)
+            || (self.listed_conditions.as_ref())
+                .is_some_and(|listed| self.rank() == 0 && !listed.contains(&id))
     }
 
     /// One round: every rank's payload, or [`Aborted`] where some rank has failed.
@@ -264,6 +279,9 @@ mod tests {
         let ranks = Ranks::new(Arc::new(Alone), &[3], &[7]);
         assert!(ranks.owns_node(3) && !ranks.owns_node(4));
         assert!(ranks.owns_condition(7) && !ranks.owns_condition(3));
+        // Rank 0 owns the conditions that are not the mesh's (the search made them).
+        let whole = ranks.clone().with_made_conditions_on_first(&[3, 7]);
+        assert!(whole.owns_condition(7) && !whole.owns_condition(3) && whole.owns_condition(8));
         assert_eq!(ranks.max(-2.5), Ok(-2.5));
         assert_eq!(ranks.sum_count(41), Ok(41));
         let terms = [(9, [1.0, 2.0, 3.0]), (2, [4.0, 5.0, 6.0]), (9, [7.0; 3])];
