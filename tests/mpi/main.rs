@@ -120,6 +120,14 @@ fn fixtures() -> Vec<Fixture> {
             }
         }
     }
+    // The multi-step and dynamic-search fixtures.
+    let steps = root().join("tests/fixtures/steps");
+    for f in std::fs::read_dir(&steps).expect("the steps fixtures") {
+        let f = f.expect("a fixture").path();
+        if f.extension().is_some_and(|e| e == "json") {
+            files.push(f);
+        }
+    }
     files.sort();
     files
         .into_iter()
@@ -128,7 +136,10 @@ fn fixtures() -> Vec<Fixture> {
             let json: serde_json::Value = serde_json::from_str(&text).expect("a fixture parses");
             let mesh = root().join(json.get("mesh")?.as_str()?);
             let setup = json.get("setup")?;
-            let name = f.strip_prefix(&dir).unwrap_or(&f).display().to_string();
+            let name = (f.strip_prefix(&dir).or_else(|_| f.strip_prefix(root())))
+                .unwrap_or(&f)
+                .display()
+                .to_string();
             let mut robust = setup.clone();
             let octree = setup.pointer("/search_parameters/type_search")
                 == Some(&serde_json::json!("octree_with_obb"));
@@ -173,7 +184,14 @@ fn sweep() -> ExitCode {
             *refused.entry(why).or_default() += 1;
             continue;
         }
-        let got = search_rank(Arc::clone(&transport), &model.to_arrays(), &setup);
+        let got = search_rank(Arc::clone(&transport), &model.to_arrays(), &setup).map(|r| {
+            r.map(|mut r| {
+                for step in &mut r.steps {
+                    step.search_s = 0.0;
+                }
+                r
+            })
+        });
         if rank != 0 {
             continue;
         }
@@ -224,7 +242,16 @@ fn one_process(
     setup: &csm::search::SearchSetup,
 ) -> Result<SearchResult, String> {
     let mut search = ContactSearch::initialize(&mut model, setup).map_err(|e| e.to_string())?;
-    search.step(&mut model).map_err(|e| e.to_string())
+    if setup.steps.is_empty() {
+        return search.step(&mut model).map_err(|e| e.to_string());
+    }
+    let mut result =
+        (search.run_steps(&mut model, &setup.steps, |_, _, _| {})).map_err(|e| e.to_string())?;
+    // (Wall times are not compared.)
+    for step in &mut result.steps {
+        step.search_s = 0.0;
+    }
+    Ok(result)
 }
 
 fn describe(r: &Result<SearchResult, String>) -> String {

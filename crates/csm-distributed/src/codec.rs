@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 
 use csm_geometry::GeometryKind;
 use csm_model::{EntityArrays, MeshArrays, PartArrays};
-use csm_search::{NodeResult, SearchResult};
+use csm_search::{NodeResult, SearchResult, StepResult};
 
 // A rank's owned result as bytes (little endian): the pair maps, the nodes, the warnings.
 
@@ -48,6 +48,14 @@ pub(crate) fn encode_result(r: &SearchResult) -> Vec<u8> {
     }
     out.push(u8::from(r.master_slave_constraints.is_some()));
     out.extend_from_slice(&(r.paired_conditions as u64).to_le_bytes());
+    put_u32(&mut out, r.steps.len() as u32);
+    for s in &r.steps {
+        put_u32(&mut out, s.step);
+        out.extend_from_slice(&s.search_s.to_le_bytes());
+        let bytes = encode_result(&s.result);
+        put_u32(&mut out, bytes.len() as u32);
+        out.extend_from_slice(&bytes);
+    }
     out
 }
 
@@ -103,6 +111,18 @@ pub(crate) fn decode_result(bytes: &[u8]) -> SearchResult {
     let warnings = (0..r.u32()).map(|_| r.string()).collect();
     let constraints = r.bytes(1)[0] != 0;
     let paired = u64::from_le_bytes(r.bytes(8).try_into().expect("8 bytes"));
+    let steps = (0..r.u32())
+        .map(|_| {
+            let step = r.u32();
+            let search_s = f64::from_le_bytes(r.bytes(8).try_into().expect("8 bytes"));
+            let n = r.u32() as usize;
+            StepResult {
+                step,
+                result: decode_result(r.bytes(n)),
+                search_s,
+            }
+        })
+        .collect();
     SearchResult {
         paired_conditions: paired as usize,
         pairs,
@@ -110,6 +130,7 @@ pub(crate) fn decode_result(bytes: &[u8]) -> SearchResult {
         nodes,
         warnings,
         master_slave_constraints: constraints.then_some(0),
+        steps,
         ..SearchResult::default()
     }
 }

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use csm_model::{MeshArrays, ModelPart, Ranks, Transport};
-use csm_search::{ContactSearch, SearchResult, SearchSetup, SearchTreeType};
+use csm_search::{ContactSearch, SearchResult, SearchSetup, SearchTreeType, StepResult};
 
 use crate::codec::{decode_result, encode_result};
 use crate::{RankPart, Reach, split_rank};
@@ -69,20 +69,19 @@ pub fn distributed_plan(setup: &SearchSetup) -> Result<DistributedPlan, String> 
     if setup.pairs.is_empty() {
         return refuse("a setup without contact pairs");
     }
-    if !setup.steps.is_empty() {
-        return refuse("multi-step runs (`steps`)");
-    }
-    if setup.adapt_search {
-        return refuse("`adapt_search`");
-    }
-    if setup.pairs.values().any(|p| p.search.inverted_search) {
-        // Its pairs are keyed by the master-side conditions, which no rank owns.
-        return refuse("`inverted_search`");
-    }
     let automatic = setup.pairs.values().any(|p| p.slaves.is_empty());
     let whole_area = if setup.skin {
         // The contact faces are found on the whole mesh's skin.
         Some("skin detection")
+    } else if !setup.steps.is_empty() {
+        // The bodies move: what a slave reaches changes from step to step.
+        Some("multi-step runs")
+    } else if setup.adapt_search {
+        // The search factor comes from NODAL_H over every node.
+        Some("`adapt_search`")
+    } else if setup.pairs.values().any(|p| p.search.inverted_search) {
+        // Its pairs are keyed by the master-side conditions.
+        Some("`inverted_search`")
     } else if setup.pairs.len() > 1 {
         // A later pair searches the paired conditions the earlier ones made.
         Some("several contact pairs")
@@ -135,7 +134,9 @@ pub fn distributed_plan(setup: &SearchSetup) -> Result<DistributedPlan, String> 
 /// the others ([`ContactSearch::set_ranks`]), and sends its owned slave conditions' pairs and
 /// owned slave nodes' results to rank 0, which merges them: rank 0 returns the result of the
 /// one-process search of `mesh` (`Some`), the other ranks `None`. Any rank's error stops
-/// every rank with the lowest failed rank's message.
+/// every rank with the lowest failed rank's message. A setup whose pairs depend on the whole
+/// contact area ([`DistributedPlan::whole_area`]) is searched whole by every rank, each
+/// owning a share of the results; a multi-step setup runs its steps as `csm search` does.
 ///
 /// The mesh's nodes must be numbered in ascending id order (the order the global sums are
 /// taken in, that of the one-process run).
@@ -402,14 +403,25 @@ fn rank_search(
     // Where a stage profile is kept (`csm search --profile`), the search phase begins here.
     tracing::debug!(target: "csm::stages", phase = "search");
     let start = Instant::now();
-    let mut result = search.step(&mut model)?;
-    times.search = start.elapsed().as_secs_f64();
     // The paired conditions of the owned slaves (a result counts every one).
-    let ids = model.conditions().ids();
-    result.paired_conditions = (setup.pairs.keys())
-        .flat_map(|&key| search.paired_conditions(key))
-        .filter(|pc| ranks.owns_condition(ids[pc.slave.index()]))
-        .count();
+    let owned_paired = |search: &ContactSearch, model: &ModelPart| {
+        let ids = model.conditions().ids();
+        (setup.pairs.keys())
+            .flat_map(|&key| search.paired_conditions(key))
+            .filter(|pc| ranks.owns_condition(ids[pc.slave.index()]))
+            .count()
+    };
+    let result = if setup.steps.is_empty() {
+        let mut result = search.step(&mut model)?;
+        result.paired_conditions = owned_paired(&search, &model);
+        result
+    } else {
+        // The steps as `csm search` runs them (whole mesh on every rank).
+        search.run_steps(&mut model, &setup.steps, |search, model, result| {
+            result.paired_conditions = owned_paired(search, model);
+        })?
+    };
+    times.search = start.elapsed().as_secs_f64();
     Ok((ranks, part, result))
 }
 
@@ -488,6 +500,13 @@ fn owned_result(ranks: &Ranks, result: &SearchResult) -> SearchResult {
         warnings: result.warnings.clone(),
         paired_conditions: result.paired_conditions,
         master_slave_constraints: result.master_slave_constraints,
+        steps: (result.steps.iter())
+            .map(|s| StepResult {
+                step: s.step,
+                result: owned_result(ranks, &s.result),
+                search_s: s.search_s,
+            })
+            .collect(),
         ..SearchResult::default()
     }
 }
@@ -505,12 +524,30 @@ fn condition_ids(mesh: &MeshArrays) -> Vec<u32> {
 /// rank order, each once; the counters of the whole: the ranks' paired conditions of their
 /// owned slaves, Kratos' condition ids from the whole mesh.
 pub(crate) fn merge(
-    parts: Vec<SearchResult>,
+    mut parts: Vec<SearchResult>,
     mesh: &MeshArrays,
     setup: &SearchSetup,
 ) -> SearchResult {
     let mut out = SearchResult::default();
     let constraints = parts.iter().any(|p| p.master_slave_constraints.is_some());
+    // Step by step, as the whole: the ranks ran the same steps.
+    let mut by_rank: Vec<Vec<StepResult>> = Vec::with_capacity(parts.len());
+    for part in &mut parts {
+        by_rank.push(std::mem::take(&mut part.steps));
+    }
+    let n_steps = by_rank.iter().map(Vec::len).min().unwrap_or(0);
+    out.steps = (0..n_steps)
+        .map(|k| StepResult {
+            step: by_rank[0][k].step,
+            result: merge(
+                by_rank.iter().map(|s| s[k].result.clone()).collect(),
+                mesh,
+                setup,
+            ),
+            // The slowest rank's.
+            search_s: by_rank.iter().map(|s| s[k].search_s).fold(0.0, f64::max),
+        })
+        .collect();
     for part in parts {
         for (key, map) in part.pairs {
             out.pairs.entry(key).or_default().extend(map);

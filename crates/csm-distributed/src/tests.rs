@@ -472,24 +472,93 @@ fn one_rank_failing_stops_every_rank_with_its_message() {
     assert!(err.0.starts_with("rank 1 of 3: "), "{err}");
 }
 
-/// What a distributed run cannot do yet is refused, with what to use instead.
+/// A setup without a contact pair is refused, on every rank.
 #[test]
-fn unsupported_setups_are_refused_with_a_reason() {
+fn a_setup_without_pairs_is_refused() {
     let mesh = scene("stacked_blocks.mdpa");
-    // An inverted search keys its pairs by master-side conditions, which no rank owns.
-    let mut inverted = test_setup(false, "in_radius", "robust");
-    for pair in inverted.pairs.values_mut() {
-        pair.search.inverted_search = true;
-    }
-    let err = on_threads(2, &mesh, &inverted).expect_err("refused");
+    let mut none = test_setup(false, "in_radius", "robust");
+    none.pairs.clear();
+    let err = on_threads(2, &mesh, &none).expect_err("refused");
     assert_eq!(
         err.0,
-        "rank 0 of 2: a distributed run does not support `inverted_search` yet"
+        "rank 0 of 2: a distributed run does not support a setup without contact pairs yet"
     );
-    let mut steps = test_setup(false, "in_radius", "robust");
-    steps.adapt_search = true;
-    let err = on_threads(2, &mesh, &steps).expect_err("refused");
-    assert!(err.0.contains("`adapt_search`"), "{err}");
+}
+
+/// The one-process search of `mesh`, its steps as `csm search` runs them, with the steps'
+/// wall times zeroed (as [`without_times`]).
+fn one_process_of(mesh: &MeshArrays, setup: &SearchSetup) -> Result<SearchResult, String> {
+    let mut model = ModelPart::from_arrays("Structure", mesh).map_err(|e| e.to_string())?;
+    let mut search = ContactSearch::initialize(&mut model, setup).map_err(|e| e.to_string())?;
+    if setup.steps.is_empty() {
+        return search.step(&mut model).map_err(|e| e.to_string());
+    }
+    (search.run_steps(&mut model, &setup.steps, |_, _, _| {}))
+        .map(without_times)
+        .map_err(|e| e.to_string())
+}
+
+/// `result` with its steps' wall times zeroed.
+fn without_times(mut result: SearchResult) -> SearchResult {
+    for step in &mut result.steps {
+        step.search_s = 0.0;
+    }
+    result
+}
+
+/// Moving bodies (the steps fixtures of the repository's scenes), `adapt_search` and
+/// `inverted_search`: every rank searches the whole mesh, and the result, step by step, is
+/// the one-process result on 1 to 3 ranks.
+#[test]
+fn steps_adapt_search_and_inverted_search_give_the_one_process_result() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut cases: Vec<(String, MeshArrays, SearchSetup)> = Vec::new();
+    for name in [
+        "cylinder_on_block_2d__simple_rolling",
+        "sphere_on_plate_tri__dynamic_static_check",
+        "stacked_blocks__database_step_update_2",
+        "stacked_blocks__static_check_movement",
+    ] {
+        let path = root.join(format!("tests/fixtures/steps/{name}.json"));
+        let text = std::fs::read_to_string(&path).expect("the fixture reads");
+        let json: serde_json::Value = serde_json::from_str(&text).expect("the fixture parses");
+        let mesh = csm_io::read_mesh(&root.join(json["mesh"].as_str().expect("a mesh")))
+            .expect("the scene reads")
+            .to_arrays();
+        let setup = parse_setup(&json["setup"].to_string(), name).expect("the setup parses");
+        assert!(!setup.steps.is_empty(), "{name}: steps");
+        cases.push((name.to_owned(), mesh, setup));
+    }
+    let mesh = scene("stacked_blocks.mdpa");
+    let mut adapt = test_setup(false, "in_radius_with_obb", "kratos");
+    adapt.adapt_search = true;
+    cases.push(("adapt_search".to_owned(), mesh.clone(), adapt));
+    for mode in ["kratos", "robust"] {
+        let mut inverted = test_setup(false, "in_radius", mode);
+        for pair in inverted.pairs.values_mut() {
+            pair.search.inverted_search = true;
+        }
+        cases.push((format!("inverted_search, {mode}"), mesh.clone(), inverted));
+    }
+    for (what, mesh, setup) in &cases {
+        assert!(
+            distributed_plan(setup).is_ok_and(|p| p.whole_area.is_some()),
+            "{what}"
+        );
+        let serial = one_process_of(mesh, setup);
+        assert!(
+            serial.as_ref().is_ok_and(|r| r.n_pairs() > 0),
+            "{what}: {:?}",
+            serial.as_ref().err()
+        );
+        for ranks in 1..=3 {
+            let got = on_threads(ranks, mesh, setup).map(without_times);
+            match (&got, &serial) {
+                (Ok(got), Ok(serial)) => assert_eq!(got, serial, "{what}, {ranks} ranks"),
+                _ => panic!("{what}, {ranks} ranks: {got:?} against {serial:?}"),
+            }
+        }
+    }
 }
 
 /// The setups whose pairs depend on a decision over the whole contact area (Kratos'

@@ -458,6 +458,39 @@ impl ContactSearch {
         Ok(())
     }
 
+    /// A multi-step run of `steps` (SETUP.json `steps`) after [`ContactSearch::initialize`]:
+    /// per step [`ContactSearch::finalize_step`] of the one before (from the second on),
+    /// [`ContactSearch::advance`] and [`ContactSearch::step`], whose result `after` may adjust
+    /// (a distributed rank counts its own paired conditions). Returns the last step's result
+    /// with every step's in [`SearchResult::steps`], each with its search's wall time
+    /// (`csm search` runs the same order, with progress and logging between).
+    pub fn run_steps(
+        &mut self,
+        model: &mut ModelPart,
+        steps: &[StepSetup],
+        mut after: impl FnMut(&ContactSearch, &ModelPart, &mut SearchResult),
+    ) -> Result<SearchResult, Error> {
+        let mut done = Vec::with_capacity(steps.len());
+        for (k, step_setup) in steps.iter().enumerate() {
+            if k > 0 {
+                self.finalize_step(model)?;
+            }
+            self.advance(model, step_setup)?;
+            let start = std::time::Instant::now();
+            let mut result = self.step(model)?;
+            let search_s = start.elapsed().as_secs_f64();
+            after(self, model, &mut result);
+            done.push(crate::StepResult {
+                step: k as u32 + 1,
+                result,
+                search_s,
+            });
+        }
+        let mut last = done.last().map(|s| s.result.clone()).unwrap_or_default();
+        last.steps = done;
+        Ok(last)
+    }
+
     fn reset_marker(&self, model: &mut ModelPart) {
         set_node_flag_on(model, self.parts.contact, Flag::MARKER, false);
     }
