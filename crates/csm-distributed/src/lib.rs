@@ -126,8 +126,9 @@ pub struct Reach {
     /// master-side node).
     pub every_master: bool,
     /// Every rank holds every contact condition (slaves and masters) and the elements around
-    /// them: for a search whose pairs depend on a decision over the whole contact area
-    /// (roles decided automatically, several pairs, Kratos' octree loop). Implies
+    /// them. A distributed run whose setup is searched whole on every rank
+    /// ([`DistributedPlan::whole_area`]) splits with it for the ownership of the contact
+    /// conditions of all the parts, then searches the whole mesh. Implies
     /// [`Reach::every_master`].
     pub every_condition: bool,
 }
