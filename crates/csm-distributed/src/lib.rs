@@ -125,12 +125,6 @@ pub struct Reach {
     /// candidates set, in the kd-tree's candidate order; the octree is refined around every
     /// master-side node).
     pub every_master: bool,
-    /// Every rank holds every contact condition (slaves and masters) and the elements around
-    /// them. A distributed run whose setup is searched whole on every rank
-    /// ([`DistributedPlan::whole_area`]) splits with it for the ownership of the contact
-    /// conditions of all the parts, then searches the whole mesh. Implies
-    /// [`Reach::every_master`].
-    pub every_condition: bool,
 }
 
 impl Reach {
@@ -140,7 +134,6 @@ impl Reach {
         Reach {
             factor: 4.0 * search_factor.max(1.0) + 2.0,
             every_master: false,
-            every_condition: false,
         }
     }
 
@@ -148,15 +141,6 @@ impl Reach {
     pub fn with_every_master(self) -> Reach {
         Reach {
             every_master: true,
-            ..self
-        }
-    }
-
-    /// This reach, holding every contact condition ([`Reach::every_condition`]).
-    pub fn with_every_condition(self) -> Reach {
-        Reach {
-            every_master: true,
-            every_condition: true,
             ..self
         }
     }
@@ -325,10 +309,6 @@ fn parts_of(
         let mut held: Vec<usize> = owned.clone();
         for &s in &owned {
             held_slave[s] = true;
-        }
-        if reach.every_condition {
-            held = (0..slave_ids.len()).collect();
-            held_slave.fill(true);
         }
         for _ in 0..2 {
             for k in 0..held.len() {

@@ -326,9 +326,9 @@ fn rank_search(
     // all of them (and the ranks' common root box) each rank builds the one-process octree.
     let octree =
         (setup.pairs.values()).any(|p| p.search.type_search == SearchTreeType::OctreeWithObb);
-    let reach = if plan.whole_area.is_some() {
-        reach.with_every_condition()
-    } else if kratos_direct || octree {
+    // (A run searched whole takes from its split only the ownership, which the reach does
+    // not change.)
+    let reach = if kratos_direct || octree {
         reach.with_every_master()
     } else {
         reach
@@ -337,17 +337,17 @@ fn rank_search(
     // rank's part and own nothing: every rank takes part in every exchange.
     let (ranks, rank) = (transport.ranks(), transport.rank());
     let owners = slave_condition_count(mesh, &slaves);
-    let whole = plan.whole_area.is_some();
-    let mut part = if whole && owners == 0 {
+    // A run searched whole: the mesh's condition ids (the others are made by the search).
+    let listed = plan.whole_area.map(|_| condition_ids(mesh));
+    let mut part = if listed.is_some() && owners == 0 {
         // No condition of the mesh is a contact one before the search (skin detection):
         // rank 0 owns every condition and node.
         let first = rank == 0;
         RankPart {
             mesh: MeshArrays::default(),
-            owned_conditions: if first {
-                condition_ids(mesh)
-            } else {
-                Vec::new()
+            owned_conditions: match (&listed, first) {
+                (Some(ids), true) => ids.clone(),
+                _ => Vec::new(),
             },
             owned_nodes: if first {
                 mesh.node_ids.clone()
@@ -385,12 +385,12 @@ fn rank_search(
         &part.owned_nodes,
         &part.owned_conditions,
     );
-    if whole {
+    if let Some(listed) = &listed {
         // Every rank searches the whole mesh: the same model, the same ids for the
         // conditions the search makes (a later pair searches the paired conditions an
         // earlier one made), which are rank 0's.
         part.mesh = mesh.clone();
-        ranks = ranks.with_made_conditions_on_first(&condition_ids(mesh));
+        ranks = ranks.with_made_conditions_on_first(listed);
     }
     // The part's arrays are not needed once its model is built (the owned ids are kept).
     let arrays = std::mem::take(&mut part.mesh);

@@ -563,9 +563,8 @@ fn steps_adapt_search_and_inverted_search_give_the_one_process_result() {
 
 /// The setups whose pairs depend on a decision over the whole contact area (Kratos'
 /// octree loop, roles decided automatically, several pairs): every rank searches the whole
-/// mesh, owning the contact conditions of its bisection (split with
-/// [`Reach::every_condition`]), and the result is the one-process result (or its error), on
-/// 1 to 4 ranks.
+/// mesh, owning the contact conditions of its bisection, and the result is the one-process
+/// result (or its error), on 1 to 4 ranks.
 #[test]
 fn whole_area_setups_give_the_one_process_result() {
     let automatic = r#"{"contact_model_part": {"0": ["Parts_Slave", "Parts_Master"]}}"#;

@@ -11,6 +11,7 @@ mod skin;
 pub(crate) use contact_parts::user_part;
 pub use contact_parts::{ContactParts, assign_contact_flags, transfer_to_contact};
 pub use dispatch::{SearchInstance, dispatch};
+pub(crate) use interface_preprocess::assign_generated_role;
 pub use interface_preprocess::{
     GeneratedCondition, InterfaceReport, InterfaceSettings, generate_interface_conditions,
     interface_condition_name, simplify_split,

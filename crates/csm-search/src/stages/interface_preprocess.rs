@@ -466,6 +466,25 @@ fn split_face(
     )])
 }
 
+/// Stage 1's role for the generated condition at index `c` (Kratos'
+/// `AssignMasterSlaveCondition`): SLAVE where every node of it is SLAVE, else MASTER; the other
+/// flag false in robust mode and left as it is in kratos mode. Returns whether it is SLAVE.
+pub(crate) fn assign_generated_role(model: &mut ModelPart, c: usize, kratos: bool) -> bool {
+    let slave = (model.conditions().nodes(c).iter())
+        .all(|n| model.nodes().flags()[n.index()].is(Flag::SLAVE));
+    let flags = &mut model.conditions_mut().flags_mut()[c];
+    let (set, other) = if slave {
+        (Flag::SLAVE, Flag::MASTER)
+    } else {
+        (Flag::MASTER, Flag::SLAVE)
+    };
+    flags.set(set, true);
+    if !kratos {
+        flags.set(other, false);
+    }
+    slave
+}
+
 #[allow(clippy::too_many_arguments)]
 fn create_condition(
     model: &mut ModelPart,
@@ -486,19 +505,7 @@ fn create_condition(
         .add_condition(id, kind, name, &node_ids, properties)
         .map_err(|e| Error::model_data("", e))?;
     model.add_conditions_to_part(part, &[idx]);
-    let slave = nodes
-        .iter()
-        .all(|n| model.nodes().flags()[n.index()].is(Flag::SLAVE));
-    let flags = &mut model.conditions_mut().flags_mut()[idx.index()];
-    let (set, other) = if slave {
-        (Flag::SLAVE, Flag::MASTER)
-    } else {
-        (Flag::MASTER, Flag::SLAVE)
-    };
-    flags.set(set, true);
-    if !kratos {
-        flags.set(other, false);
-    }
+    let slave = assign_generated_role(model, idx.index(), kratos);
     Ok(GeneratedCondition {
         id,
         idx,

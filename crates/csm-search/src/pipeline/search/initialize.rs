@@ -311,27 +311,14 @@ pub fn generate_interfaces_first(
 /// automatically): the search gives them the roles stage 1 gave them.
 pub const GENERATED_CONDITIONS_PART: &str = "CsmGeneratedConditions";
 
-/// Stage 1's roles for the conditions of [`GENERATED_CONDITIONS_PART`], where the model has
-/// that part: SLAVE where every node of the condition is SLAVE, else MASTER; the other flag
-/// false in robust mode and left as it is in kratos mode (as `generate_condition` does).
+/// Stage 1's roles ([`crate::stages::assign_generated_role`]) for the conditions of
+/// [`GENERATED_CONDITIONS_PART`], where the model has that part.
 fn generated_roles(model: &mut ModelPart, kratos: bool) {
     let Some(part) = model.find_part(GENERATED_CONDITIONS_PART) else {
         return;
     };
-    let conditions = model.part(part).conditions().to_vec();
-    for c in conditions {
-        let slave = (model.conditions().nodes(c.index()).iter())
-            .all(|n| model.nodes().flags()[n.index()].is(Flag::SLAVE));
-        let (set, other) = if slave {
-            (Flag::SLAVE, Flag::MASTER)
-        } else {
-            (Flag::MASTER, Flag::SLAVE)
-        };
-        let flags = &mut model.conditions_mut().flags_mut()[c.index()];
-        flags.set(set, true);
-        if !kratos {
-            flags.set(other, false);
-        }
+    for c in model.part(part).conditions().to_vec() {
+        crate::stages::assign_generated_role(model, c.index(), kratos);
     }
 }
 
