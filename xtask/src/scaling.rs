@@ -155,6 +155,104 @@ struct SceneRuns {
     slave: Option<usize>,
     /// Thread count → fastest times.
     by_threads: Vec<(usize, Fastest)>,
+    /// The ceiling of N copies of the run (`examples/copies.rs`), where they were run.
+    copies: Option<Copies>,
+}
+
+/// What N copies of the same run reach on this machine, stage by stage
+/// (`examples/copies.rs`: each copy on a thread of its own with a one-thread rayon pool, the
+/// copies started together at the initialise phase and at the search step): the speed-up no
+/// parallel form of a stage can pass unless its threads share what the copies each hold.
+#[derive(Debug, Clone, Default, PartialEq)]
+struct Copies {
+    /// The copies run together.
+    n: usize,
+    /// (phase, stage) → (the fastest time of one copy alone, the ceiling: that time times
+    /// the best throughput of the N copies, Σ 1 / time). A phase's own time is its stage
+    /// `all`.
+    stages: BTreeMap<(String, String), (f64, f64)>,
+}
+
+impl Copies {
+    /// The ceiling of the stages `keys` together (their time alone over their time per
+    /// copy at the ceiling, summed); `None` where a stage was not measured.
+    fn ceiling(&self, keys: &[&(String, String)]) -> Option<f64> {
+        let (mut alone, mut at_ceiling) = (0.0, 0.0);
+        for key in keys {
+            let (a, c) = self.stages.get(*key)?;
+            alone += a;
+            at_ceiling += a / c;
+        }
+        (at_ceiling > 0.0).then(|| alone / at_ceiling)
+    }
+}
+
+/// The runs of `examples/copies.rs` in `dir` (`c<K>_r<R>.json`, K = 1 for the copy alone):
+/// `None` when the folder lacks runs of one copy or of several.
+fn read_copies(dir: &Path) -> Result<Option<Copies>> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Ok(None);
+    };
+    let mut files: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    let mut alone: BTreeMap<(String, String), f64> = BTreeMap::new();
+    let mut throughput: BTreeMap<(String, String), f64> = BTreeMap::new();
+    let mut n = None;
+    for path in files {
+        let doc: Value = serde_json::from_str(&std::fs::read_to_string(&path)?)
+            .with_context(|| format!("{} is not JSON", path.display()))?;
+        let k = doc["copies"]
+            .as_u64()
+            .with_context(|| format!("{}: no `copies`", path.display()))? as usize;
+        // Per (phase, stage): each copy's time, a stage that runs twice summed.
+        let mut times: BTreeMap<(String, String), Vec<f64>> = BTreeMap::new();
+        for run in doc["runs"].as_array().into_iter().flatten() {
+            let mut own: BTreeMap<(String, String), f64> = BTreeMap::new();
+            for s in run.as_array().into_iter().flatten() {
+                let key = (
+                    s["phase"].as_str().unwrap_or_default().to_owned(),
+                    s["stage"].as_str().unwrap_or_default().to_owned(),
+                );
+                *own.entry(key).or_default() += s["seconds"].as_f64().unwrap_or(f64::NAN);
+            }
+            for (key, t) in own {
+                times.entry(key).or_default().push(t);
+            }
+        }
+        if k == 1 {
+            for (key, t) in times {
+                let best = alone.entry(key).or_insert(t[0]);
+                *best = best.min(t[0]);
+            }
+            continue;
+        }
+        if n.is_some_and(|n| n != k) {
+            bail!("{}: runs of {k} copies beside runs of {n:?}", dir.display());
+        }
+        n = Some(k);
+        for (key, t) in times {
+            let rate: f64 = t.iter().map(|t| 1.0 / t).sum();
+            let best = throughput.entry(key).or_insert(rate);
+            *best = best.max(rate);
+        }
+    }
+    let Some(n) = n else {
+        return Ok(None);
+    };
+    if alone.is_empty() {
+        return Ok(None);
+    }
+    let stages = alone
+        .into_iter()
+        .filter_map(|(key, a)| {
+            let rate = *throughput.get(&key)?;
+            (a.is_finite() && rate.is_finite() && rate > 0.0).then_some((key, (a, a * rate)))
+        })
+        .collect();
+    Ok(Some(Copies { n, stages }))
 }
 
 /// What the machine itself allows on `n` threads: the speed-up of `n` copies of a fixed
@@ -360,6 +458,29 @@ fn run_sweep(o: &Options) -> Result<PathBuf> {
     let mut args = vec!["tools/scaling_runs.sh", &csm, &out_s, &threads, &repeat];
     args.extend(meshes.iter().map(String::as_str));
     crate::run("sh", &args, &[])?;
+    // The copies' ceiling for the last thread count, rounds of one copy and of N alternating.
+    let n = o.threads.last().copied().unwrap_or(1);
+    if n > 1 {
+        crate::cargo(&["build", "--release", "--example", "copies"], &[])?;
+        let copies = root.join("target/release/examples/copies");
+        let (copies, setup) = (
+            copies.to_string_lossy().into_owned(),
+            out.join("setup.json").to_string_lossy().into_owned(),
+        );
+        for mesh in &meshes {
+            let stem = Path::new(mesh).file_stem().unwrap_or_default().to_owned();
+            let dir = out.join(&stem).join("copies");
+            std::fs::create_dir_all(&dir)?;
+            for round in 1..=o.repeat.max(1) {
+                for k in [1, n] {
+                    let file = dir.join(format!("c{k}_r{round}.json"));
+                    let (k, file) = (k.to_string(), file.to_string_lossy().into_owned());
+                    crate::run(&copies, &[mesh, &setup, &k, &file], &[])?;
+                }
+                eprintln!("scaling: {} copies, round {round}", stem.to_string_lossy());
+            }
+        }
+    }
     // The slave face counts, from the scenes' headers, for the table.
     for mesh in &meshes {
         let path = Path::new(mesh);
@@ -439,6 +560,7 @@ fn read_runs(dir: &Path) -> Result<Vec<SceneRuns>> {
                 .into_owned(),
             slave,
             by_threads: by.into_iter().collect(),
+            copies: read_copies(&folder.join("copies"))?,
         });
     }
     Ok(scenes)
@@ -533,6 +655,23 @@ fn section(
             list(|c| c.2)
         )?;
     }
+    if let Some(n) = scenes.iter().find_map(|sc| sc.copies.as_ref().map(|c| c.n)) {
+        writeln!(
+            s,
+            "* **{n} copies**: the ceiling of each stage's own work on this machine: {n} \
+             copies of the same run at once (`examples/copies.rs`: the mesh read once and \
+             cloned, each copy on a thread of its own with a one-thread pool, the copies \
+             started together at the initialise phase and at the search step, one run per \
+             process as `csm search` is), their throughput against one copy alone, best of \
+             as many rounds as the sweep. The copies share nothing but the machine (memory \
+             bandwidth, the caches, the kernel's page faults, the clock of a busy chip), so a \
+             speed-up near this column is the machine's limit for that stage, and one well \
+             below it is lost in the parallel form itself (serial stretches, waits at the \
+             end of parallel passes, contention between the threads); threads that share \
+             read-only data in the caches can pass it. The phases' rows are their wall \
+             times; `smaller stages` combine theirs."
+        )?;
+    }
     if scenes.iter().any(|sc| sc.name.starts_with("demo_")) {
         writeln!(
             s,
@@ -567,32 +706,48 @@ fn section(
             let _ = write!(head, " S ({tn}/{t1}) | e |");
             rule.push_str("---:|---:|");
         }
+        // The copies' ceiling, where they ran as many as the sweep's last thread count.
+        let copies = sc.copies.as_ref().filter(|c| c.n == *tn);
+        if let Some(c) = copies {
+            let _ = write!(head, " {} copies |", c.n);
+            rule.push_str("---:|");
+        }
         writeln!(s, "{head}\n{rule}")?;
-        let row = |s: &mut String, phase: &str, stage: &str, times: &[f64]| {
-            let mut line = format!("| {phase} | {stage} |");
-            for t in times {
-                let _ = write!(line, " {t:.4} |");
-            }
-            let speed = times[0] / times[times.len() - 1];
-            let e = serial_fraction(speed, *tn / *t1);
-            if *tn > *t1 && speed.is_finite() {
-                // Faster than ideal (noise, caches) is no serial fraction at all.
-                let _ = write!(line, " {speed:.2} | {:.2} |", e.max(0.0));
-                if project {
-                    let _ = write!(line, " {:.1} |", amdahl(e.max(0.0), 16));
+        let row =
+            |s: &mut String, phase: &str, stage: &str, times: &[f64], ceiling: Option<f64>| {
+                let mut line = format!("| {phase} | {stage} |");
+                for t in times {
+                    let _ = write!(line, " {t:.4} |");
                 }
-            } else {
-                line.push_str(if project { " | | |" } else { " | |" });
-            }
-            let _ = writeln!(s, "{line}");
-        };
+                let speed = times[0] / times[times.len() - 1];
+                let e = serial_fraction(speed, *tn / *t1);
+                if *tn > *t1 && speed.is_finite() {
+                    // Faster than ideal (noise, caches) is no serial fraction at all.
+                    let _ = write!(line, " {speed:.2} | {:.2} |", e.max(0.0));
+                    if project {
+                        let _ = write!(line, " {:.1} |", amdahl(e.max(0.0), 16));
+                    }
+                } else {
+                    line.push_str(if project { " | | |" } else { " | |" });
+                }
+                if copies.is_some() {
+                    match ceiling {
+                        Some(c) => {
+                            let _ = write!(line, " {c:.2} |");
+                        }
+                        None => line.push_str(" |"),
+                    }
+                }
+                let _ = writeln!(s, "{line}");
+            };
+        let ceiling = |keys: &[&(String, String)]| copies.and_then(|c| c.ceiling(keys));
         let threshold = 0.01 * f1.wall;
         for phase in ["read", "initialize", "search", "truth", "write"] {
             if !f1.phases.contains_key(phase) {
                 continue;
             }
             let mut small = vec![0.0; sc.by_threads.len()];
-            let mut n_small = 0;
+            let mut small_keys = Vec::new();
             let stages: Vec<_> = f1.stages.iter().filter(|((p, _), _)| p == phase).collect();
             // A phase that is its own one stage (`read`) has its total row only, and so has
             // the demo's ground truth (a second search, whose stages would repeat the
@@ -602,31 +757,38 @@ fn section(
             for (key, t) in stages.into_iter().filter(|_| !own) {
                 let times: Vec<f64> = sc.by_threads.iter().map(|(_, f)| f.stage(key)).collect();
                 if *t < threshold {
-                    n_small += 1;
+                    small_keys.push(key);
                     for (acc, t) in small.iter_mut().zip(&times) {
                         *acc += t;
                     }
                 } else {
-                    row(&mut s, phase, &key.1, &times);
+                    row(&mut s, phase, &key.1, &times, ceiling(&[key]));
                 }
             }
-            if n_small > 0 {
-                let label = if n_small == 1 {
+            if !small_keys.is_empty() {
+                let label = if small_keys.len() == 1 {
                     "1 smaller stage".to_owned()
                 } else {
-                    format!("{n_small} smaller stages")
+                    format!("{} smaller stages", small_keys.len())
                 };
-                row(&mut s, phase, &label, &small);
+                row(&mut s, phase, &label, &small, ceiling(&small_keys));
             }
             let times: Vec<f64> = sc
                 .by_threads
                 .iter()
                 .map(|(_, f)| f.phases.get(phase).copied().unwrap_or(f64::NAN))
                 .collect();
-            row(&mut s, &format!("**{phase}**"), "**all**", &times);
+            let all = (phase.to_owned(), "all".to_owned());
+            row(
+                &mut s,
+                &format!("**{phase}**"),
+                "**all**",
+                &times,
+                ceiling(&[&all]),
+            );
         }
         let walls: Vec<f64> = sc.by_threads.iter().map(|(_, f)| f.wall).collect();
-        row(&mut s, "**whole process**", "", &walls);
+        row(&mut s, "**whole process**", "", &walls, None);
         writeln!(
             s,
             "\nPeak memory: {} MiB with {t1} thread(s), {} MiB with {tn}.",
@@ -652,6 +814,12 @@ fn scenes_json(scenes: &[SceneRuns], machine: &str) -> Value {
                         "phase": p, "stage": n, "seconds": t
                     })).collect::<Vec<_>>(),
                 })).collect::<Vec<_>>(),
+                "copies": sc.copies.as_ref().map(|c| json!({
+                    "copies": c.n,
+                    "stages": c.stages.iter().map(|((p, n), (alone, ceiling))| json!({
+                        "phase": p, "stage": n, "alone_s": alone, "ceiling": ceiling
+                    })).collect::<Vec<_>>(),
+                })),
             })
         })
         .collect();
@@ -802,6 +970,7 @@ mod tests {
                 name: (*name).to_owned(),
                 slave: None,
                 by_threads: vec![(1, fastest(2.0)), (2, fastest(1.2)), (16, fastest(0.3))],
+                copies: None,
             })
             .collect();
         let svg = svg(&scenes);
@@ -932,5 +1101,91 @@ mod tests {
             with_section(&text, &new8, Some("8-core")),
             format!("# P\n\n{new_plain}\n\n{new16}\n\n{new8}\n")
         );
+    }
+
+    /// The copies' ceiling: one copy's fastest time times the copies' best throughput,
+    /// stages combined by their times, a stage that runs twice summed; the table gains its
+    /// column where the copies match the sweep's last thread count.
+    #[test]
+    fn copies_give_each_stage_its_ceiling() {
+        let dir = std::env::temp_dir().join(format!("csm-copies-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let run = |check: f64, map: f64| {
+            json!([{"phase": "initialize", "stage": "normal check", "seconds": check},
+                   {"phase": "search", "stage": "mapping", "seconds": map / 2.0},
+                   {"phase": "search", "stage": "mapping", "seconds": map / 2.0},
+                   {"phase": "search", "stage": "all", "seconds": map}])
+        };
+        let write = |name: &str, runs: Vec<Value>| {
+            let doc = json!({"format": "csm-copies/1", "copies": runs.len(), "runs": runs});
+            std::fs::write(dir.join(name), doc.to_string()).unwrap();
+        };
+        write("c1_r1.json", vec![run(1.0, 1.2)]);
+        write("c1_r2.json", vec![run(1.2, 1.0)]);
+        assert_eq!(
+            read_copies(&dir).unwrap(),
+            None,
+            "no runs of several copies"
+        );
+        write("c2_r1.json", vec![run(1.25, 1.0), run(1.25, 1.0)]);
+        write("c2_r2.json", vec![run(2.0, 2.0), run(2.0, 2.0)]);
+        let copies = read_copies(&dir).unwrap().unwrap();
+        assert_eq!(copies.n, 2);
+        let key = |p: &str, s: &str| (p.to_owned(), s.to_owned());
+        let (check, map) = (key("initialize", "normal check"), key("search", "mapping"));
+        // 1.0 alone; together 1.25 each: 2 / 1.25 = 1.6 per second.
+        assert_eq!(copies.stages[&check], (1.0, 1.6));
+        assert_eq!(copies.stages[&map], (1.0, 2.0));
+        let both = copies.ceiling(&[&check, &map]).unwrap();
+        assert!(
+            (both - 2.0 / (1.0 / 1.6 + 1.0 / 2.0)).abs() < 1e-12,
+            "{both}"
+        );
+        assert_eq!(copies.ceiling(&[&key("search", "result")]), None);
+
+        let fastest = |t: f64| {
+            let mut f = Fastest::default();
+            let profile = json!({"phases": {"initialize": t, "search": t},
+                "stages": [{"phase": "initialize", "stage": "normal check", "seconds": t},
+                           {"phase": "search", "stage": "mapping", "seconds": t}]});
+            f.merge(3.0 * t, 1024, &profile);
+            f
+        };
+        let scene = SceneRuns {
+            name: "blocks".into(),
+            slave: None,
+            by_threads: vec![(1, fastest(1.0)), (2, fastest(0.625))],
+            copies: Some(copies.clone()),
+        };
+        let text = section(&[scene], ("a machine", None, "scaling"), Some(2), &[]).unwrap();
+        assert!(
+            text.contains("| S (2/1) | e | 16 by Amdahl | 2 copies |"),
+            "{text}"
+        );
+        assert!(
+            text.contains(
+                "| initialize | normal check | 1.0000 | 0.6250 | 1.60 | 0.25 | 3.4 | 1.60 |"
+            ),
+            "{text}"
+        );
+        assert!(
+            text.contains("| search | mapping | 1.0000 | 0.6250 | 1.60 | 0.25 | 3.4 | 2.00 |"),
+            "{text}"
+        );
+        let wrong = SceneRuns {
+            name: "blocks".into(),
+            slave: None,
+            by_threads: vec![(1, fastest(1.0)), (4, fastest(0.5))],
+            copies: Some(copies),
+        };
+        let text = section(&[wrong], ("a machine", None, "scaling"), Some(2), &[]).unwrap();
+        assert!(
+            !text.contains("copies |"),
+            "copies of 2 beside 4 threads: {text}"
+        );
+        write("c3_r1.json", vec![run(1.0, 1.0); 3]);
+        let err = read_copies(&dir).unwrap_err().to_string();
+        assert!(err.contains("runs of 3 copies"), "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
