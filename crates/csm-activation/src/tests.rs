@@ -965,6 +965,15 @@ fn gathered_mapping_maps_as_the_serial_pass() {
     for batch in [50, 130, 100_000] {
         let serial = run(0, batch, usize::MAX);
         assert!(serial == stored, "serial, batch {batch}");
+        // The serial pass pipelined beside the segmentation (several threads) or not (one).
+        let serial_three = three_threads(|| run(0, batch, usize::MAX));
+        assert!(serial_three == stored, "serial on 3 threads, batch {batch}");
+        let serial_one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| run(0, batch, usize::MAX));
+        assert!(serial_one == stored, "serial on 1 thread, batch {batch}");
         let one = rayon::ThreadPoolBuilder::new()
             .num_threads(1)
             .build()

@@ -166,9 +166,11 @@ pub(super) fn stream_first_iterations(
     // The mappings whose pairs' second iteration is not done yet, the first from pair `next`.
     let mut pending: VecDeque<SlaveMapping> = VecDeque::new();
     let mut next = 0;
-    for (b, conditions) in s.slave_conditions.chunks(batch).enumerate() {
-        let done = b * batch + conditions.len();
-        for mut mapped in segment_slaves(m, conditions, tasks)? {
+    // A batch's sums (one serial pass over its pairs, in pair order): its first iteration,
+    // then the second of the pairs whose slave nodes are done. `done`: the slave conditions
+    // segmented once this batch is.
+    let mut add_batch = |done: usize, segmented: Vec<SlaveMapping>| {
+        for mut mapped in segmented {
             first.take_reports(&mut mapped, (&mut *report, &mut *standard));
             if mapped.kept.is_empty() {
                 continue;
@@ -197,6 +199,36 @@ pub(super) fn stream_first_iterations(
             pending.pop_front();
             next = 0;
         }
+    };
+    // Pipelined: a batch's serial sums run beside the next batch's (parallel) segmentation,
+    // whose tasks the summing thread joins when it is done. The sums still come batch after
+    // batch, each in pair order, so the bits are the serial loop's; the first error is still
+    // the first batch's (a batch that fails is never summed, nor is any after it).
+    // On one thread, each batch is summed right after its segmentation, while its operators
+    // are still in the caches.
+    let batches: Vec<&[ConditionIdx]> = s.slave_conditions.chunks(batch).collect();
+    if rayon::current_num_threads() == 1 {
+        for (b, conditions) in batches.into_iter().enumerate() {
+            add_batch(
+                b * batch + conditions.len(),
+                segment_slaves(m, conditions, tasks)?,
+            );
+        }
+        debug_assert!(pending.is_empty(), "every node is done after the last batch");
+        return Ok(first);
+    }
+    let mut ready: Option<(usize, Vec<SlaveMapping>)> = None;
+    for b in 0..=batches.len() {
+        let segment = batches.get(b).map(|conditions| (b * batch + conditions.len(), *conditions));
+        let (segmented, ()) = rayon::join(
+            || segment.map(|(done, conditions)| Ok((done, segment_slaves(m, conditions, tasks)?))),
+            || {
+                if let Some((done, segmented)) = ready.take() {
+                    add_batch(done, segmented);
+                }
+            },
+        );
+        ready = segmented.transpose()?;
     }
     debug_assert!(
         pending.is_empty(),
