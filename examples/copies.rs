@@ -18,8 +18,9 @@
 //! step, and every copy's stage times are taken from the `csm::stages` trace (the stages of
 //! `csm search --profile`). `COPIES` 1 is the copy alone. OUT.json (`csm-copies/1`):
 //! `{"format": "csm-copies/1", "copies": N, "runs": [[{"phase": "initialize", "stage":
-//! "normal check", "seconds": s}, …], …]}`, a list per copy, each phase's wall time as its
-//! stage `all`. `cargo xtask scaling` alternates runs of one copy and of N and takes the
+//! "normal check", "seconds": s}, …], …]}`, a list per copy, the rest of each phase's time as
+//! its stage `other` (as `csm search --profile` reports it) and its wall time as its stage
+//! `all`. `cargo xtask scaling` alternates runs of one copy and of N and takes the
 //! ceiling as the one copy's fastest time times the N copies' best throughput (the sum of
 //! 1 / time over the copies).
 
@@ -112,25 +113,27 @@ fn run(model: &ModelPart, setup: &SearchSetup, copies: usize, marks: &Marks) -> 
 /// One copy: initialise, then the search step, each started at the barrier.
 fn one_copy(model: &mut ModelPart, setup: &SearchSetup, barrier: &Barrier, marks: &Marks) -> Times {
     let id = std::thread::current().id();
-    let take = |phase: &str, times: &mut Times| {
+    // The phase's stages, the rest of its time as its stage `other` (as `csm search
+    // --profile` reports it), and its wall time as its stage `all`.
+    let take = |phase: &str, wall: f64, times: &mut Times| {
         let mut marks = marks.lock().unwrap_or_else(PoisonError::into_inner);
+        let mut staged = 0.0;
         for (stage, s) in marks.remove(&id).unwrap_or_default() {
+            staged += s;
             times.push(((phase.to_owned(), stage), s));
         }
+        times.push(((phase.to_owned(), "other".into()), (wall - staged).max(0.0)));
+        times.push(((phase.to_owned(), "all".into()), wall));
     };
     let mut times = Times::new();
     barrier.wait();
     let start = Instant::now();
     let mut search = ContactSearch::initialize(model, setup).expect("the setup initialises");
-    let initialize = start.elapsed().as_secs_f64();
-    take("initialize", &mut times);
-    times.push((("initialize".into(), "all".into()), initialize));
+    take("initialize", start.elapsed().as_secs_f64(), &mut times);
     barrier.wait();
     let start = Instant::now();
     search.step(model).expect("the search step runs");
-    let step = start.elapsed().as_secs_f64();
-    take("search", &mut times);
-    times.push((("search".into(), "all".into()), step));
+    take("search", start.elapsed().as_secs_f64(), &mut times);
     times
 }
 
