@@ -2,9 +2,9 @@
 # The 16-core sweeps of the twenty-third session, as run on the lent machine (one command):
 # (A) the thread sweep of docs/performance.md's 16-core section, (B) mpirun on 1-16 ranks,
 # docs/distributed.md "Measured". Prepared here: .dev2/ holds csm (release), csm-mpi (release,
-# --features mpi), xtask (release), setup.json (.devrun's: Parts_Slave/Parts_Master) and
-# sphere_on_plate_2e5.mdpa.xz (tools/bench_scenes.py); .ompi/ is tools/ompi_bundle/make_bundle.sh's
-# bundle; both carried. Writes $OUT/threads.tgz (render here with `cargo xtask scaling --runs
+# --features mpi), xtask (release), copies (release, examples/copies.rs; optional), setup.json
+# (.devrun's: Parts_Slave/Parts_Master) and sphere_on_plate_2e5.mdpa.xz
+# (tools/bench_scenes.py); .ompi/ is tools/ompi_bundle/make_bundle.sh's bundle; both carried. Writes $OUT/threads.tgz (render here with `cargo xtask scaling --runs
 # DIR --label 16-core`) and $OUT/mpi.tgz (profiles, /usr/bin/time lines, logs).
 set -u
 D=.dev2; O=/tmp/runs; M=/tmp/mpi; S=/tmp/scenes
@@ -16,6 +16,16 @@ echo "== A: threads $(date +%T)"
 timeout ${TA:-200} sh tools/scaling_runs.sh $D/csm $O 1,2,4,8,16 ${RA:-3} \
   $S/stacked_blocks_1e5.mdpa $S/sphere_on_plate_2e5.mdpa demo:400000 2>&1 | tail -n 2
 timeout 60 $D/xtask scaling --threads 1,2,4,8,16 --ceilings-into $O
+# Each stage's ceiling (the table's "16 copies" column), where .dev2/ holds the release build of
+# examples/copies.rs: rounds of one copy and of 16 alternating.
+if [ -x $D/copies ]; then
+  for mesh in stacked_blocks_1e5 sphere_on_plate_2e5; do
+    mkdir -p $O/$mesh/copies
+    for r in $(seq ${RA:-3}); do for k in 1 16; do
+      timeout 60 $D/copies $S/$mesh.mdpa $O/setup.json $k $O/$mesh/copies/c${k}_r$r.json
+    done; done
+  done
+fi
 rm -f $S/stacked_blocks_1e5.mdpa $S/sphere_on_plate_2e5.mdpa
 tar czf $OUT/threads.tgz -C /tmp runs
 echo "== B: ranks $(date +%T)"
