@@ -34,9 +34,12 @@ impl ContactSearch {
             let cflags = model.conditions().flags();
             let is_slave = |c: &ConditionIdx| cflags[c.index()].is(Flag::SLAVE) != inverted;
             let conditions = model.part(pair.sub).conditions();
-            let mut slaves: Vec<(u32, Vec<u32>)> = conditions
+            // The slaves listed first (small entries), then their entries written in place by
+            // an indexed collect: no unindexed collect's serial copy into fresh memory.
+            let slave_list: Vec<ConditionIdx> =
+                conditions.par_iter().copied().filter(is_slave).collect();
+            let mut slaves: Vec<(u32, Vec<u32>)> = slave_list
                 .par_iter()
-                .filter(|c| is_slave(c))
                 .map(|c| {
                     let masters = model.index_map(*c).masters().map(ConditionId::get);
                     (ids[c.index()], masters.collect())
@@ -51,10 +54,14 @@ impl ContactSearch {
             // order already: the check runs in parallel, the sort's own check would not.)
             sort_by_id(&mut slaves);
             let node_flags = model.nodes().flags();
-            let mut node_results: Vec<(u32, NodeResult)> = (0..on_slave_side.len())
+            let marked: Vec<u32> = (0..on_slave_side.len() as u32)
                 .into_par_iter()
-                .filter(|&i| on_slave_side[i].load(Ordering::Relaxed))
-                .map(|i| {
+                .filter(|&i| on_slave_side[i as usize].load(Ordering::Relaxed))
+                .collect();
+            let mut node_results: Vec<(u32, NodeResult)> = marked
+                .par_iter()
+                .map(|&i| {
+                    let i = i as usize;
                     // NORMAL_GAP is never written by No/DirectCheck (null); MappingCheck's
                     // 1e12 "not mapped" sentinel is null too.
                     let normal_gap = gaps
