@@ -1143,7 +1143,11 @@ mod tests {
         );
         let result = key("search", "result");
         assert_eq!(copies.ceiling(&[&result]), None, "not measured");
-        assert_eq!(copies.ceiling(&[&map, &result]), Some(2.0), "the measured ones");
+        assert_eq!(
+            copies.ceiling(&[&map, &result]),
+            Some(2.0),
+            "the measured ones"
+        );
 
         let fastest = |t: f64| {
             let mut f = Fastest::default();

@@ -214,12 +214,17 @@ pub(super) fn stream_first_iterations(
                 segment_slaves(m, conditions, tasks)?,
             );
         }
-        debug_assert!(pending.is_empty(), "every node is done after the last batch");
+        debug_assert!(
+            pending.is_empty(),
+            "every node is done after the last batch"
+        );
         return Ok(first);
     }
     let mut ready: Option<(usize, Vec<SlaveMapping>)> = None;
     for b in 0..=batches.len() {
-        let segment = batches.get(b).map(|conditions| (b * batch + conditions.len(), *conditions));
+        let segment = batches
+            .get(b)
+            .map(|conditions| (b * batch + conditions.len(), *conditions));
         let (segmented, ()) = rayon::join(
             || segment.map(|(done, conditions)| Ok((done, segment_slaves(m, conditions, tasks)?))),
             || {

@@ -134,10 +134,35 @@ pub(crate) struct Parsed {
 }
 
 impl Parsed {
-    fn append(&mut self, mut other: Parsed) {
-        self.ids.append(&mut other.ids);
-        self.coordinates.append(&mut other.coordinates);
+    /// The parts one after the other: each list concatenated in parallel ([`concat`]).
+    fn concat(parts: Vec<Parsed>) -> Parsed {
+        let (ids, coordinates): (Vec<_>, Vec<_>) =
+            parts.into_iter().map(|p| (p.ids, p.coordinates)).unzip();
+        let (ids, coordinates) = rayon::join(|| concat(ids), || concat(coordinates));
+        Parsed { ids, coordinates }
     }
+}
+
+/// `parts` one after the other. A single part is moved; several are copied in parallel into
+/// one zeroed list (the allocator's zero pages: each part's pages are first touched by the
+/// thread that copies it, not by one thread for all).
+fn concat<T: Copy + Default + Send + Sync>(mut parts: Vec<Vec<T>>) -> Vec<T> {
+    if parts.len() <= 1 {
+        return parts.pop().unwrap_or_default();
+    }
+    let total = parts.iter().map(Vec::len).sum();
+    let mut out = vec![T::default(); total];
+    let mut rest = out.as_mut_slice();
+    let mut pieces = Vec::with_capacity(parts.len());
+    for part in &parts {
+        let (piece, tail) = rest.split_at_mut(part.len());
+        pieces.push((piece, part.as_slice()));
+        rest = tail;
+    }
+    pieces
+        .into_par_iter()
+        .for_each(|(piece, part)| piece.copy_from_slice(part));
+    out
 }
 
 /// Parses the window `data[at..end]` (whole lines of a plain body) in parallel, one chunk per
@@ -158,15 +183,11 @@ pub(crate) fn parse_window(
         bounds.push((from, to));
         from = to;
     }
-    let parts: Vec<Option<Parsed>> = bounds
+    let parts: Option<Vec<Parsed>> = bounds
         .into_par_iter()
         .map(|(from, to)| parse_chunk(&data[from..to], record))
         .collect();
-    let mut out = Parsed::default();
-    for p in parts {
-        out.append(p?);
-    }
-    Some(out)
+    Some(Parsed::concat(parts?))
 }
 
 /// The words of `chunk` as records of kind `record`, or `None`.
@@ -258,6 +279,31 @@ mod tests {
         }
     }
 
+    /// The parts' lists one after the other, empty parts included, on 1 and 3 threads; a
+    /// single part as it is.
+    #[test]
+    fn parts_are_concatenated_in_order() {
+        let parts: Vec<Vec<u32>> = vec![vec![1, 2, 3], vec![], vec![4], (5..5000).collect()];
+        let serial: Vec<u32> = parts.concat();
+        for threads in [1, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            assert_eq!(
+                pool.install(|| concat(parts.clone())),
+                serial,
+                "{threads} threads"
+            );
+        }
+        let points = vec![
+            vec![[1.0, 2.0, 3.0]],
+            vec![[4.0, 5.0, 6.0], [7.0, 8.0, 9.0]],
+        ];
+        assert_eq!(concat(points.clone()), points.concat());
+        assert_eq!(concat(vec![vec![7u32, 8]]), [7, 8]);
+        assert!(concat(Vec::<Vec<u32>>::new()).is_empty());
+    }
     #[test]
     fn the_plain_body_ends_at_its_end_word() {
         let text = b"Begin Nodes\n 1 1.5e-3 -2E+1 3\nEnd Nodes\n";
