@@ -332,17 +332,13 @@ fn normal_gap_process_inner(
     let slaves = SlavePositions::new(&s, n_nodes);
     // By slave node.
     let mut area = vec![0.0; s.slave_nodes.len()];
-    let all: Vec<ConditionIdx> = s
-        .master_conditions
-        .iter()
-        .chain(&s.slave_conditions)
-        .copied()
-        .collect();
     let m = &*model;
     // The largest area per task (the maximum in any grouping is the serial one), and the
-    // first error in condition order.
-    let areas: Vec<Result<LargestArea, Error>> = all
+    // first error in condition order (master side, then slave side; no joined copy of the
+    // two lists).
+    let areas: Vec<Result<LargestArea, Error>> = (s.master_conditions)
         .par_chunks(CONDITIONS_PER_TASK)
+        .chain(s.slave_conditions.par_chunks(CONDITIONS_PER_TASK))
         .map(|chunk| {
             let mut gathered = GatheredPoints::default();
             let mut largest = LargestArea::default();
