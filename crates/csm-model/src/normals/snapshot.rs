@@ -47,12 +47,26 @@ impl UnitNormalsSnapshot {
             return;
         }
         let part = self.part;
-        if let Err(nodal) = model
-            .nodal_data_mut()
-            .set_vector(VectorVar::Normal, self.nodal)
-        {
-            UnitNormalsSnapshot { part, nodal }.restore(model);
+        let data = model.nodal_data_mut();
+        let Some(column) = data.vector_mut(VectorVar::Normal, 0) else {
+            return;
+        };
+        if column.len() != self.nodal.len() {
+            return UnitNormalsSnapshot {
+                part,
+                nodal: self.nodal,
+            }
+            .restore(model);
         }
+        // Copied in parallel into the column in place; the kept list is freed beside the
+        // work that follows (giving a large list back to the system takes one thread a
+        // while).
+        let nodal = self.nodal;
+        column
+            .par_iter_mut()
+            .zip(nodal.par_iter())
+            .for_each(|(value, kept)| *value = *kept);
+        rayon::spawn(move || drop(nodal));
     }
 
     /// Writes the kept `NORMAL` of the nodes of the part's conditions back.
