@@ -79,19 +79,32 @@ pub(super) fn sums_by_node_blocks<'a>(
             }
         })
         .collect();
-    sums.par_chunks_mut(1 << NODE_BLOCK_BITS)
-        .zip(count.par_chunks_mut(1 << NODE_BLOCK_BITS))
-        .enumerate()
-        .for_each(|(b, (sums, count))| {
-            let first = b << NODE_BLOCK_BITS;
-            for chunk in &chunks {
-                for &(node, r) in &chunk.contributions[chunk.start[b]..chunk.start[b + 1]] {
-                    let i = node as usize - first;
-                    add_first_zero(&mut sums[i], &mut count[i], normal(r));
-                }
+    let add_block = |b: usize, (sums, count): (&mut [Vector], &mut [u32])| {
+        let first = b << NODE_BLOCK_BITS;
+        for chunk in &chunks {
+            for &(node, r) in &chunk.contributions[chunk.start[b]..chunk.start[b + 1]] {
+                let i = node as usize - first;
+                add_first_zero(&mut sums[i], &mut count[i], normal(r));
             }
-        });
+        }
+    };
+    // A few contributions (the wanted nodes of a side) are added on this thread: handing the
+    // blocks to the pool costs more than the additions.
+    let total: usize = chunks.iter().map(|c| c.contributions.len()).sum();
+    let size = 1 << NODE_BLOCK_BITS;
+    if total < SERIAL_CONTRIBUTIONS {
+        (sums.chunks_mut(size).zip(count.chunks_mut(size)))
+            .enumerate()
+            .for_each(|(b, block)| add_block(b, block));
+    } else {
+        (sums.par_chunks_mut(size).zip(count.par_chunks_mut(size)))
+            .enumerate()
+            .for_each(|(b, block)| add_block(b, block));
+    }
 }
+
+/// Below this many contributions [`sums_by_node_blocks`] adds them on one thread.
+pub(super) const SERIAL_CONTRIBUTIONS: usize = 1 << 15;
 
 /// One chunk of faces' (node, normal) contributions of [`FaceNormals::nodal_sums`], sorted by
 /// node block (face order within a block): block `b`'s are `contributions[start[b]..start[b + 1]]`.

@@ -1,7 +1,7 @@
 use csm_geometry::GeometryKind;
 use csm_geometry::math::{Point, Vector};
 
-use super::node_sums::{NODE_BLOCK_BITS, sums_by_node_blocks};
+use super::node_sums::{NODE_BLOCK_BITS, SERIAL_CONTRIBUTIONS, sums_by_node_blocks};
 use super::*;
 use crate::GeometryStamp;
 use crate::{ConditionId, NodeId, PropertiesId};
@@ -188,6 +188,9 @@ fn nodal_sums_are_the_serial_sums_for_any_thread_count() {
         }
     }
     assert_eq!(table.nodal_sums_serial(&mp), serial);
+    // Enough contributions for the blocks' parallel pass (the wanted sums below take the
+    // serial one).
+    assert!(serial.1.iter().sum::<u32>() as usize >= SERIAL_CONTRIBUTIONS);
     for threads in [1, 2, 3, 7] {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -241,6 +244,7 @@ fn wanted_nodal_sums_are_the_serial_sums_in_any_chunks() {
         }
     }
     assert!(serial.1.iter().filter(|&&c| c > 0).count() > n_nodes / 3);
+    assert!((serial.1.iter().sum::<u32>() as usize) < SERIAL_CONTRIBUTIONS);
     for threads in [1, 2, 3] {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
