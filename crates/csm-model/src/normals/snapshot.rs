@@ -43,20 +43,11 @@ impl UnitNormalsSnapshot {
     /// writes on the nodes of the part's conditions only). Nothing happens if the model lost
     /// its `NORMAL`; where its nodes changed in number, this is [`UnitNormalsSnapshot::restore`].
     pub fn restore_all(self, model: &mut ModelPart) {
-        if model.nodal_data().vector(VectorVar::Normal, 0).is_none() {
-            return;
-        }
-        let part = self.part;
-        let data = model.nodal_data_mut();
-        let Some(column) = data.vector_mut(VectorVar::Normal, 0) else {
+        let Some(column) = model.nodal_data_mut().vector_mut(VectorVar::Normal, 0) else {
             return;
         };
         if column.len() != self.nodal.len() {
-            return UnitNormalsSnapshot {
-                part,
-                nodal: self.nodal,
-            }
-            .restore(model);
+            return self.restore(model);
         }
         // Copied in parallel into the column in place; the kept list is freed beside the
         // work that follows (giving a large list back to the system takes one thread a
