@@ -92,6 +92,9 @@ pub(crate) fn update_index_maps<T: Sync>(
     update: impl Fn(&mut IndexMap, usize, &[T]) + Sync,
 ) {
     const NONE: u32 = u32::MAX;
+    if entries.is_empty() {
+        return;
+    }
     let starts: Vec<usize> = (0..entries.len())
         .into_par_iter()
         .filter(|&k| k == 0 || slave(&entries[k]) != slave(&entries[k - 1]))

@@ -199,6 +199,42 @@ fn results_are_identical_for_any_thread_count() {
     assert_eq!(one, run_with(3));
 }
 
+/// MappingCheck's INDEX_MAP updates run in parallel on several threads where the slaves'
+/// order cannot matter, and serially otherwise: the slave plate half off the master (half the
+/// slaves without candidates), with predefined roles and with roles decided automatically
+/// (robust mode: every condition is then a slave, and candidates are slaves).
+#[test]
+fn mapping_check_pairs_are_identical_for_any_thread_count() {
+    let predefined = setup("{}", "");
+    let automatic = parse_setup(
+        r#"{"contact_model_part": {"0": ["Slave", "Master"]},
+            "assume_master_slave": {"0": []}, "compatibility": "robust"}"#,
+        "test",
+    )
+    .unwrap();
+    for s in [&predefined, &automatic] {
+        let run_with = |threads: usize| {
+            in_pool(threads, || {
+                let mut model = plates(8, -0.005, false);
+                let slave = model.find_part("Slave").unwrap();
+                let nodes = model.part(slave).nodes().to_vec();
+                for n in nodes {
+                    model.nodes_mut().coordinates_mut()[n.index()].x += 4.0 * H;
+                }
+                run(&mut model, s)
+            })
+        };
+        let one = run_with(1);
+        let paired = pairs(&one).values().filter(|m| !m.is_empty()).count();
+        assert!(
+            paired > 0 && paired < pairs(&one).len(),
+            "{paired} slaves paired"
+        );
+        assert_eq!(one, run_with(2));
+        assert_eq!(one, run_with(3));
+    }
+}
+
 #[test]
 fn robust_kdop_keeps_pairs_that_deep_penetration_makes_the_obbs_lose() {
     // Penetration 0.2 > 2 · bounding_box_factor · NODAL_H = 0.05.

@@ -286,58 +286,92 @@ pub(super) fn kdtree_search(
 }
 
 /// MappingCheck's INDEX_MAP updates ([`apply_candidates`]) of every slave in parallel, where
-/// that gives the maps of the serial pass in slave order: when no candidate is itself one of
-/// the slaves, no test reads a map the pass writes ([`mapping_check_keeps`] reads the
+/// that gives the maps of the serial pass in slave order: when no candidate is itself a slave
+/// with candidates, no test reads a map the pass writes ([`mapping_check_keeps`] reads the
 /// candidate's), so the order of the slaves does not matter. Returns false, having changed
-/// nothing, otherwise (a candidate among the slaves, or a slave listed twice).
+/// nothing, otherwise (such a candidate, or a slave with candidates listed twice).
+///
+/// Only the slaves with candidates are visited (most slaves of a per-face scene have none):
+/// their conditions sorted, the maps are taken in blocks of consecutive conditions.
 fn mapping_check_in_parallel(
     model: &mut ModelPart,
     cx: &PairingContext<'_>,
     slaves: &[ConditionIdx],
     candidates: &SlaveCandidates,
 ) -> bool {
-    const NONE: u32 = u32::MAX;
-    let mut slot = vec![NONE; model.conditions().len()];
-    for (k, s) in slaves.iter().enumerate() {
-        match u32::try_from(k) {
-            Ok(k) if slot[s.index()] == NONE && k != NONE => slot[s.index()] = k,
-            _ => return false,
-        }
-    }
-    if candidates
-        .list
-        .par_iter()
-        .any(|c| slot[c.master.index()] != NONE)
+    let Ok(count) = u32::try_from(slaves.len()) else {
+        return false;
+    };
+    let start = &candidates.start;
+    // The slaves with candidates: (condition index, slave position), by condition.
+    let mut with: Vec<(u32, u32)> = (0..count)
+        .into_par_iter()
+        .filter(|&k| start[k as usize + 1] > start[k as usize])
+        .map(|k| (slaves[k as usize].0, k))
+        .collect();
+    with.par_sort_unstable();
+    // Their conditions as bits, a word per 64 conditions, filled in blocks of words.
+    const WORDS: usize = 1024;
+    let mut bits = vec![0u64; model.conditions().len().div_ceil(64)];
+    bits.par_chunks_mut(WORDS)
+        .enumerate()
+        .for_each(|(b, words)| {
+            let first = b * WORDS * 64;
+            let from = with.partition_point(|&(s, _)| (s as usize) < first);
+            let to = with.partition_point(|&(s, _)| (s as usize) < first + words.len() * 64);
+            for &(s, _) in &with[from..to] {
+                let at = s as usize - first;
+                words[at / 64] |= 1 << (at % 64);
+            }
+        });
+    let is_slave = |c: ConditionIdx| bits[c.index() / 64] & (1 << (c.index() % 64)) != 0;
+    if with.par_windows(2).any(|w| w[0].0 == w[1].0)
+        || candidates.list.par_iter().any(|c| is_slave(c.master))
     {
         return false;
     }
     let m = &*model;
     let ids = m.conditions().ids();
-    // The masters each slave keeps, in slave order then candidate order.
-    let kept: Vec<(u32, ConditionId)> = (0..slaves.len())
+    // Per candidate, its master's id where the slave keeps it; written in blocks of slaves.
+    let mut kept: Vec<Option<ConditionId>> = (0..candidates.list.len())
         .into_par_iter()
-        .flat_map_iter(|k| {
+        .map(|_| None)
+        .collect();
+    slave_blocks(start, &mut kept).for_each(|(block, out)| {
+        let mut to = 0;
+        for k in block {
+            let of_slave = candidates.of(k);
+            if of_slave.is_empty() {
+                continue;
+            }
             let s = slaves[k];
             let slave_id = ConditionId(ids[s.index()]);
-            candidates
-                .of(k)
-                .iter()
-                .filter(move |c| mapping_check_keeps(m, cx, (s, slave_id), c.master))
-                .map(move |c| (k as u32, ConditionId(ids[c.master.index()])))
-        })
-        .collect();
-    update_index_maps(
-        model,
-        &kept,
-        |&(k, _)| slaves[k as usize],
-        |map, _, group| {
-            // One allocation per map (the entries would grow it a few times each).
-            map.reserve(group.len());
-            for &(_, master) in group {
-                map.add_id(master);
+            for c in of_slave {
+                if mapping_check_keeps(m, cx, (s, slave_id), c.master) {
+                    out[to] = Some(ConditionId(ids[c.master.index()]));
+                }
+                to += 1;
             }
-        },
-    );
+        }
+    });
+    const MAPS: usize = 4096;
+    (model.index_maps_mut().par_chunks_mut(MAPS))
+        .enumerate()
+        .for_each(|(b, maps)| {
+            let first = (b * MAPS) as u32;
+            let from = with.partition_point(|&(s, _)| s < first);
+            let to = with.partition_point(|&(s, _)| (s as usize) < b * MAPS + maps.len());
+            for &(s, k) in &with[from..to] {
+                let k = k as usize;
+                let of_slave = &kept[start[k] as usize..start[k + 1] as usize];
+                let map = &mut maps[(s - first) as usize];
+                // One allocation per map (the entries would grow it a few times each).
+                map.reserve(of_slave.iter().flatten().count());
+                for &master in of_slave.iter().flatten() {
+                    map.add_id(master);
+                }
+            }
+        });
     true
 }
 
@@ -496,18 +530,7 @@ impl SlaveCandidates {
                 node_pass: 0,
             })
             .collect();
-        // The list cut at block boundaries (a block's slaves are consecutive there).
-        const BLOCK: usize = 2048;
-        let mut blocks = Vec::with_capacity(n.div_ceil(BLOCK));
-        let mut rest = list.as_mut_slice();
-        for b in (0..n).step_by(BLOCK) {
-            let e = (b + BLOCK).min(n);
-            let (head, tail) =
-                std::mem::take(&mut rest).split_at_mut((start[e] - start[b]) as usize);
-            blocks.push((b..e, head));
-            rest = tail;
-        }
-        blocks.into_par_iter().for_each(|(slaves, out)| {
+        slave_blocks(&start, &mut list).for_each(|(slaves, out)| {
             let mut to = 0;
             for k in slaves {
                 let at = place[k].load(Relaxed);
@@ -534,5 +557,113 @@ impl SlaveCandidates {
 
     fn of(&self, k: usize) -> &[Candidate] {
         &self.list[self.start[k] as usize..self.start[k + 1] as usize]
+    }
+}
+
+/// A list with an entry per candidate ([`SlaveCandidates`]' `start`), cut into blocks of
+/// consecutive slaves for parallel tasks: each block's slave positions and its part of `list`.
+fn slave_blocks<'a, T: Send>(
+    start: &[u32],
+    list: &'a mut [T],
+) -> impl ParallelIterator<Item = (std::ops::Range<usize>, &'a mut [T])> {
+    const BLOCK: usize = 2048;
+    let n = start.len() - 1;
+    let mut blocks = Vec::with_capacity(n.div_ceil(BLOCK));
+    let mut rest = list;
+    for b in (0..n).step_by(BLOCK) {
+        let e = (b + BLOCK).min(n);
+        let (head, tail) = std::mem::take(&mut rest).split_at_mut((start[e] - start[b]) as usize);
+        blocks.push((b..e, head));
+        rest = tail;
+    }
+    blocks.into_par_iter()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pipeline::tests::in_pool;
+    use crate::scenes::{plates, plates_setup};
+
+    /// [`mapping_check_in_parallel`] on two threads against the serial pass of
+    /// [`apply_candidates`] in slave order: `lists[k]` are slave `k`'s candidates.
+    /// Returns whether the parallel form ran; where it did, the maps must be the serial ones,
+    /// and where it refused, the model must be unchanged.
+    fn parallel_against_serial(slaves: &[ConditionIdx], lists: &[Vec<ConditionIdx>]) -> bool {
+        let mut model = plates(1, -0.005, false);
+        compute_unit_normals(&mut model, None, NormalsMode::Kratos).unwrap();
+        // Roles not predefined: every candidate's map is read (the reverse pairs).
+        let params = SearchParameters {
+            predefined_master_slave: false,
+            ..plates_setup("{}", "").pairs[&0].search.clone()
+        };
+        let cx = PairingContext {
+            params: &params,
+            inverted: false,
+            slave_nodes: 3,
+            active_before: None,
+        };
+        let mut start = vec![0u32];
+        let mut list = Vec::new();
+        for l in lists {
+            list.extend(l.iter().map(|&master| Candidate {
+                master,
+                node_pass: 0,
+            }));
+            start.push(list.len() as u32);
+        }
+        let candidates = SlaveCandidates {
+            start,
+            list,
+            error: None,
+        };
+        let before = model.clone();
+        let mut serial = model.clone();
+        for (k, &s) in slaves.iter().enumerate() {
+            apply_candidates(&mut serial, &cx, s, candidates.of(k), &mut Vec::new());
+        }
+        let kept = |m: &ModelPart| slaves.iter().map(|&s| m.index_map(s).len()).sum::<usize>();
+        assert!(kept(&serial) > 0, "the serial pass keeps pairs");
+        let ran = in_pool(2, || {
+            mapping_check_in_parallel(&mut model, &cx, slaves, &candidates)
+        });
+        let expected = if ran { &serial } else { &before };
+        for c in 0..model.conditions().len() {
+            let c = ConditionIdx(c as u32);
+            assert_eq!(model.index_map(c), expected.index_map(c), "condition {c:?}");
+        }
+        ran
+    }
+
+    #[test]
+    fn the_parallel_mapping_check_refuses_where_the_slaves_order_matters() {
+        let model = plates(1, -0.005, false);
+        let part = |name| {
+            model
+                .part(model.find_part(name).unwrap())
+                .conditions()
+                .to_vec()
+        };
+        let (s, m) = (part("Slave"), part("Master"));
+        // Each other's candidate: in slave order the second pair is a reverse pair, refused.
+        assert!(!parallel_against_serial(
+            &[s[0], m[0]],
+            &[vec![m[0]], vec![s[0]]]
+        ));
+        // The same slave twice, with candidates.
+        assert!(!parallel_against_serial(
+            &[s[0], s[0]],
+            &[vec![m[0]], vec![m[1]]]
+        ));
+        // A candidate that is a slave without candidates: its map is not written.
+        assert!(parallel_against_serial(
+            &[s[0], m[0], s[1]],
+            &[vec![m[0], m[1]], vec![], vec![m[1]]]
+        ));
+        // A slave without candidates listed twice.
+        assert!(parallel_against_serial(
+            &[s[0], m[0], m[0]],
+            &[vec![m[1]], vec![], vec![]]
+        ));
     }
 }
