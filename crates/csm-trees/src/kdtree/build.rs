@@ -1,7 +1,9 @@
 //! Construction of the kd-tree (reference §6.1): split on the axis of largest spread at the
 //! median found by Kratos' Hoare quickselect, with Kratos' cut value.
 
+use csm_geometry::Aabb;
 use csm_geometry::math::{Point, Real};
+use rayon::prelude::*;
 
 use super::tree::Node;
 
@@ -17,7 +19,8 @@ const PARALLEL_MIN: usize = 16_384;
 ///
 /// A range of more than `bucket_size` and at most `defer_max` points becomes a
 /// [`Node::Deferred`] (its entries left in their order, numbered in pre-order from 0); with
-/// `defer_max <= bucket_size` none does. Returns the root and the number of deferred nodes.
+/// `defer_max <= bucket_size` none does. Returns the root, the number of deferred nodes and
+/// the points' box (found once, in parallel, and giving the root's split axis).
 ///
 /// `bucket_size >= 1` and `points.len() <= u32::MAX / 2` are checked by the caller.
 pub(super) fn build<T: Copy + Send>(
@@ -26,20 +29,28 @@ pub(super) fn build<T: Copy + Send>(
     nodes: &mut Vec<Node>,
     bucket_size: usize,
     defer_max: usize,
-) -> (Option<u32>, usize) {
-    let Some(root) = build_with(items, points, nodes, (bucket_size, PARALLEL_MIN, defer_max))
-    else {
-        return (None, 0);
+) -> (Option<u32>, usize, Option<Aabb>) {
+    if points.is_empty() {
+        return (None, 0, None);
+    }
+    let extent = bounds(points, PARALLEL_MIN);
+    let entries = Entries {
+        items,
+        points,
+        base: 0,
     };
+    let sizes = (bucket_size, PARALLEL_MIN, defer_max);
+    let root = build_range(entries, nodes, sizes, Some(&extent));
     let mut deferred = 0;
     if defer_max > bucket_size {
         number_deferred(nodes, root, &mut deferred);
     }
-    (Some(root), deferred as usize)
+    (Some(root), deferred as usize, Some(extent))
 }
 
 /// [`build`] without numbering the deferred ranges; `sizes`: the bucket size, the smallest
 /// range built in parallel halves and the largest deferred range.
+#[cfg(test)]
 pub(super) fn build_with<T: Copy + Send>(
     items: &mut [T],
     points: &mut [Point],
@@ -56,7 +67,7 @@ pub(super) fn build_with<T: Copy + Send>(
         points,
         base: 0,
     };
-    Some(build_range(entries, nodes, sizes))
+    Some(build_range(entries, nodes, sizes, None))
 }
 
 /// Numbers the [`Node::Deferred`] nodes of the subtree `node` in pre-order from `*next`.
@@ -123,6 +134,7 @@ fn build_range<T: Send>(
     mut entries: Entries<'_, T>,
     nodes: &mut Vec<Node>,
     sizes: (usize, usize, usize),
+    known: Option<&Aabb>,
 ) -> u32 {
     let (bucket_size, parallel_min, defer_max) = sizes;
     let n = entries.len();
@@ -144,7 +156,10 @@ fn build_range<T: Send>(
         });
         return index;
     }
-    let axis = widest_axis(entries.points);
+    let axis = match known {
+        Some(aabb) => widest_axis(aabb),
+        None => widest_axis(&bounds(entries.points, parallel_min)),
+    };
     let m = n / 2;
     select_blocks(&mut entries, m, axis);
     let cut = cut_value(&entries, m, axis);
@@ -154,12 +169,15 @@ fn build_range<T: Send>(
     let (left, right) = if n >= parallel_min {
         let (mut left_nodes, mut right_nodes) = (Vec::new(), Vec::new());
         rayon::join(
-            || build_range(lo, &mut left_nodes, sizes),
-            || build_range(hi, &mut right_nodes, sizes),
+            || build_range(lo, &mut left_nodes, sizes, None),
+            || build_range(hi, &mut right_nodes, sizes, None),
         );
         (append(nodes, left_nodes), append(nodes, right_nodes))
     } else {
-        (build_range(lo, nodes, sizes), build_range(hi, nodes, sizes))
+        (
+            build_range(lo, nodes, sizes, None),
+            build_range(hi, nodes, sizes, None),
+        )
     };
     nodes[index as usize] = Node::Inner {
         axis: axis as u8,
@@ -181,21 +199,37 @@ fn append(nodes: &mut Vec<Node>, sub: Vec<Node>) -> u32 {
     offset
 }
 
-/// The axis of maximum spread `max p[k] − min p[k]` of `points`; ties go to the lowest axis
-/// (Kratos compares spreads with a strict `>`, starting from axis 0).
-fn widest_axis(points: &[Point]) -> usize {
-    let mut lo = points[0];
-    let mut hi = points[0];
-    for p in &points[1..] {
-        for k in 0..3 {
-            if p[k] < lo[k] {
-                lo[k] = p[k];
-            }
-            if p[k] > hi[k] {
-                hi[k] = p[k];
+/// The box of the non-empty `points`; in parallel blocks from `parallel_min` points on. A
+/// minimum and a maximum are exact: any grouping gives the values of one pass in order (up to
+/// the sign of a zero, which no comparison and no spread sees).
+pub(super) fn bounds(points: &[Point], parallel_min: usize) -> Aabb {
+    const BLOCK: usize = 4096;
+    let serial = |points: &[Point]| {
+        let (mut lo, mut hi) = (points[0], points[0]);
+        for p in &points[1..] {
+            for k in 0..3 {
+                if p[k] < lo[k] {
+                    lo[k] = p[k];
+                }
+                if p[k] > hi[k] {
+                    hi[k] = p[k];
+                }
             }
         }
+        Aabb::new(lo, hi)
+    };
+    if points.len() < parallel_min.max(2 * BLOCK) {
+        return serial(points);
     }
+    (points.par_chunks(BLOCK).map(serial))
+        .reduce_with(|a, b| a.union(&b))
+        .expect("non-empty points")
+}
+
+/// The axis of maximum spread `max p[k] − min p[k]` of the points of box `aabb`; ties go to
+/// the lowest axis (Kratos compares spreads with a strict `>`, starting from axis 0).
+fn widest_axis(aabb: &Aabb) -> usize {
+    let (lo, hi) = (aabb.min, aabb.max);
     let mut axis = 0;
     let mut max_spread = hi[0] - lo[0];
     for k in 1..3 {

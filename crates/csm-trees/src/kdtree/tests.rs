@@ -262,6 +262,15 @@ fn degenerate_input_gives_typed_errors() {
     ));
     let inf = [(0usize, p(Real::INFINITY, 0.0, 0.0))];
     assert!(KdTree::new(&inf, 4).is_err());
+    // The lists taken as they are: checked in parallel, one bad point among many.
+    let mut points: Vec<Point> = (0..5000).map(|i| p(i as Real, 0.0, 1.0)).collect();
+    points[3210].z = Real::NAN;
+    assert!(matches!(
+        KdTree::from_parts(vec![0u32; 5000], points, 4, 0)
+            .unwrap_err()
+            .kind(),
+        ErrorKind::NonFinite { .. }
+    ));
 
     let mut tree = KdTree::new(&good, 4).unwrap();
     assert!(tree.rebuild(&nan).is_err());
@@ -604,5 +613,29 @@ fn select<T>(entries: &mut super::build::Entries<'_, T>, m: usize, axis: usize) 
         } else {
             break;
         }
+    }
+}
+
+/// The box of a range, found in parallel blocks, is the one pass's box, for any thread count;
+/// the tree's extent is its points' box.
+#[test]
+fn the_parallel_box_is_the_serial_one() {
+    for (n, seed) in [(3, 1), (8191, 2), (8192, 3), (40_000, 4)] {
+        let cloud = lcg_cloud(n, seed);
+        let points: Vec<Point> = cloud.iter().map(|(_, x)| *x).collect();
+        let serial = crate::bounds_of(points.iter()).unwrap();
+        for threads in [1, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            for parallel_min in [1, usize::MAX] {
+                let aabb = pool.install(|| super::build::bounds(&points, parallel_min));
+                assert_eq!((aabb.min, aabb.max), (serial.min, serial.max), "{n} points");
+            }
+        }
+        let items: Vec<usize> = (0..n).collect();
+        let tree = KdTree::from_parts(items, points, 4, 64).unwrap();
+        assert_eq!(tree.bounds(), Some(serial));
     }
 }

@@ -3,6 +3,7 @@
 use std::sync::OnceLock;
 
 use csm_geometry::math::{Point, Real};
+use rayon::prelude::*;
 
 use crate::aabb::Aabb;
 use crate::error::{Error, ErrorKind, check_point};
@@ -155,7 +156,8 @@ impl<T: Copy + Send> KdTree<T> {
         }
         let mut tree = KdTree::empty(bucket_size, defer_max)?;
         check_len(points.len())?;
-        for p in &points {
+        // (Checked in parallel: the error is the same for every point that is not finite.)
+        if let Some(p) = (points.par_iter()).find_any(|p| check_point(p, "point").is_err()) {
             check_point(p, "point")?;
         }
         tree.items = items;
@@ -269,7 +271,7 @@ impl<T: Copy + Send> KdTree<T> {
 
     fn build_in_place(&mut self) {
         self.nodes.clear();
-        let (root, n_deferred) = build::build(
+        let (root, n_deferred, extent) = build::build(
             &mut self.items,
             &mut self.points,
             &mut self.nodes,
@@ -278,7 +280,7 @@ impl<T: Copy + Send> KdTree<T> {
         );
         self.root = root;
         self.deferred = (0..n_deferred).map(|_| OnceLock::new()).collect();
-        self.extent = crate::bounds_of(self.points.iter());
+        self.extent = extent;
     }
 
     /// Builds every deferred subtree that no query has built yet and puts them all in place:
