@@ -28,7 +28,7 @@ mod kdtree;
 mod octree;
 mod query_status;
 
-pub use aabb::{Aabb, bounds_of};
+pub use aabb::{Aabb, bounds_of, par_bounds_of};
 pub use error::{Error, ErrorKind};
 pub use kdtree::KdTree;
 pub use octree::{LeafId, Octree, OctreeParams};

@@ -3,7 +3,6 @@
 
 use csm_geometry::Aabb;
 use csm_geometry::math::{Point, Real};
-use rayon::prelude::*;
 
 use super::tree::Node;
 
@@ -199,31 +198,9 @@ fn append(nodes: &mut Vec<Node>, sub: Vec<Node>) -> u32 {
     offset
 }
 
-/// The box of the non-empty `points`; in parallel blocks from `parallel_min` points on. A
-/// minimum and a maximum are exact: any grouping gives the values of one pass in order (up to
-/// the sign of a zero, which no comparison and no spread sees).
+/// The box of the non-empty `points`; in parallel blocks from `parallel_min` points on.
 pub(super) fn bounds(points: &[Point], parallel_min: usize) -> Aabb {
-    const BLOCK: usize = 4096;
-    let serial = |points: &[Point]| {
-        let (mut lo, mut hi) = (points[0], points[0]);
-        for p in &points[1..] {
-            for k in 0..3 {
-                if p[k] < lo[k] {
-                    lo[k] = p[k];
-                }
-                if p[k] > hi[k] {
-                    hi[k] = p[k];
-                }
-            }
-        }
-        Aabb::new(lo, hi)
-    };
-    if points.len() < parallel_min.max(2 * BLOCK) {
-        return serial(points);
-    }
-    (points.par_chunks(BLOCK).map(serial))
-        .reduce_with(|a, b| a.union(&b))
-        .expect("non-empty points")
+    crate::aabb::bounds_in_blocks(points, parallel_min).expect("non-empty points")
 }
 
 /// The axis of maximum spread `max p[k] − min p[k]` of the points of box `aabb`; ties go to

@@ -633,9 +633,12 @@ fn the_parallel_box_is_the_serial_one() {
                 let aabb = pool.install(|| super::build::bounds(&points, parallel_min));
                 assert_eq!((aabb.min, aabb.max), (serial.min, serial.max), "{n} points");
             }
+            let public = pool.install(|| crate::par_bounds_of(&points)).unwrap();
+            assert_eq!((public.min, public.max), (serial.min, serial.max));
         }
         let items: Vec<usize> = (0..n).collect();
         let tree = KdTree::from_parts(items, points, 4, 64).unwrap();
         assert_eq!(tree.bounds(), Some(serial));
     }
+    assert_eq!(crate::par_bounds_of(&[]), None);
 }

@@ -71,17 +71,37 @@ pub(super) fn kdtree_search(
         Vec::new()
     };
     let kept = if pre_search { None } else { pair.tree.take() };
-    let (mut tree, refitted) = match kept {
-        Some(mut kept) if keep_tree && order_free && kept.ids == ids => {
-            let mut at = vec![Point::origin(); model.conditions().len()];
-            for (&c, x) in master_list.iter().zip(&centres) {
-                at[c as usize] = *x;
+    // The slave side, and which slaves are queried first, found beside the tree's build
+    // (whose first split is one thread's work): the far test needs only the centres' box,
+    // the tree's own.
+    let slaves: Vec<ConditionIdx> = conditions
+        .par_iter()
+        .copied()
+        .filter(|c| {
+            let f = model.conditions().flags()[c.index()];
+            pre_search || (f.is_defined(Flag::ACTIVE) && f.is(Flag::SLAVE) != inverted)
+        })
+        .collect();
+    let far = Far::new(csm_trees::par_bounds_of(&centres), p.search_factor);
+    let shared: &ModelPart = model;
+    let classify = || Classified::new(shared, &slaves, &far, query_order);
+    let (built, classified) = rayon::join(
+        || -> Result<(KdTree<u32>, bool), Error> {
+            match kept {
+                Some(mut kept) if keep_tree && order_free && kept.ids == ids => {
+                    let mut at = vec![Point::origin(); shared.conditions().len()];
+                    for (&c, x) in master_list.iter().zip(&centres) {
+                        at[c as usize] = *x;
+                    }
+                    kept.tree.refit(|c| at[c as usize]).map_err(tree_error)?;
+                    Ok((kept.tree, true))
+                }
+                _ => Ok((new_tree(master_list, centres)?, false)),
             }
-            kept.tree.refit(|c| at[c as usize]).map_err(tree_error)?;
-            (kept.tree, true)
-        }
-        _ => (new_tree(master_list, centres)?, false),
-    };
+        },
+        classify,
+    );
+    let (mut tree, refitted): (KdTree<u32>, bool) = built?;
     crate::trace::mark("kd-tree");
     // Read in place: the model is only read until the serial pairing below.
     let h_col = model
@@ -120,7 +140,6 @@ pub(super) fn kdtree_search(
         .collect();
     // Built when first asked for by a query, which holds the model: both are dropped before
     // the pairing changes it.
-    let shared: &ModelPart = model;
     let master_bvs = if with_obb {
         PerMaster::new(shared, &masters, move |c, points| {
             Geometry::new(shared.conditions().kind(c.index()), points)
@@ -137,14 +156,6 @@ pub(super) fn kdtree_search(
     } else {
         PerMaster::none()
     };
-    let slaves: Vec<ConditionIdx> = conditions
-        .par_iter()
-        .copied()
-        .filter(|c| {
-            let f = model.conditions().flags()[c.index()];
-            pre_search || (f.is_defined(Flag::ACTIVE) && f.is(Flag::SLAVE) != inverted)
-        })
-        .collect();
     let nodal_normals = model
         .nodal_data()
         .vector(VectorVar::Normal, 0)
@@ -170,12 +181,12 @@ pub(super) fn kdtree_search(
             master_bvs: &master_bvs,
             master_kdops: &master_kdops,
         };
-        // The queries of the slaves far from the tree run as their nodes are read, in slave
-        // order; the others along a Morton curve of the slave centres (neighbouring queries
-        // visit the same tree nodes and masters). The results go back to the slave order.
-        let query_all = |tree: &KdTree<u32>| -> (Vec<usize>, Vec<QueryChunk>, bool) {
+        // The queries of the slaves far from the tree run in slave order, in their blocks;
+        // the others along a Morton curve of the slave centres (neighbouring queries visit the
+        // same tree nodes and masters). The results go back to the slave order.
+        let query_all = |tree: &KdTree<u32>| -> (Vec<QueryChunk>, bool) {
             let truncated = AtomicBool::new(false);
-            let query = |scratch: &mut QueryScratch, out: &mut QueryChunk, k: usize| {
+            let query = |scratch: &mut QueryScratch, k: usize, out: &mut QueryChunk| {
                 match slave_candidates(&cx, tree, slaves[k], scratch) {
                     Ok(capped) => {
                         if capped {
@@ -192,61 +203,33 @@ pub(super) fn kdtree_search(
                     }
                 }
             };
-            let far = Far::new(tree.bounds(), p.search_factor);
-            let first: Vec<FarQueries> = slaves
-                .par_chunks(QUERY_CHUNK)
-                .enumerate()
-                .map_init(QueryScratch::default, |scratch, (i, chunk)| {
-                    let mut out = FarQueries::default();
-                    for (j, &c) in chunk.iter().enumerate() {
-                        let k = i * QUERY_CHUNK + j;
-                        let (centre, radius) = reach(model, c);
-                        let first = match query_order {
-                            QueryOrder::Estimate => far.is_far(&centre, radius),
-                            QueryOrder::AllFirst => true,
-                            QueryOrder::AllAlongCurve => false,
-                        };
-                        if first {
-                            query(scratch, &mut out.chunk, k);
-                            out.done.push(k);
-                        } else {
-                            out.near.push((k, centre));
-                        }
-                    }
-                    out
+            let run = |scratch: &mut QueryScratch, positions: &[usize]| {
+                let mut out = QueryChunk::default();
+                for &k in positions {
+                    query(scratch, k, &mut out);
+                }
+                out
+            };
+            let mut chunks: Vec<QueryChunk> = (classified.first.par_iter())
+                .map_init(QueryScratch::default, |scratch, positions| {
+                    run(scratch, positions)
                 })
                 .collect();
-            let mut order = Vec::with_capacity(slaves.len());
-            let mut chunks = Vec::with_capacity(first.len());
-            let mut near = Vec::new();
-            for queries in first {
-                order.extend(queries.done);
-                chunks.push(queries.chunk);
-                near.extend(queries.near);
-            }
             // Where many slaves come near the masters, most masters' boxes will be asked for:
             // computed first, in master order.
-            if near.len() >= slaves.len() / 4 {
+            if classified.curve.len() >= slaves.len() / 4 {
                 master_bvs.compute_all();
                 master_kdops.compute_all();
             }
-            let curve = morton_order_of(&near);
-            chunks.extend(
-                curve
-                    .par_chunks(QUERY_CHUNK)
-                    .map_init(QueryScratch::default, |scratch, chunk| {
-                        let mut out = QueryChunk::default();
-                        for &k in chunk {
-                            query(scratch, &mut out, k);
-                        }
-                        out
-                    })
-                    .collect::<Vec<_>>(),
+            chunks.par_extend(
+                (classified.curve.par_chunks(QUERY_CHUNK))
+                    .map_init(QueryScratch::default, |scratch, positions| {
+                        run(scratch, positions)
+                    }),
             );
-            order.extend(curve);
-            (order, chunks, truncated.into_inner())
+            (chunks, truncated.into_inner())
         };
-        let (mut order, mut chunks, truncated) = query_all(&tree);
+        let (mut chunks, truncated) = query_all(&tree);
         if refitted && truncated {
             // A capped query keeps the first masters in traversal order: take a rebuilt
             // tree's order, as a step without a kept tree does.
@@ -254,9 +237,9 @@ pub(super) fn kdtree_search(
             by_id.sort_unstable_by_key(|&c| model.conditions().ids()[c as usize]);
             let centres = centres_of(&by_id);
             tree = new_tree(by_id, centres)?;
-            (order, chunks, _) = query_all(&tree);
+            (chunks, _) = query_all(&tree);
         }
-        SlaveCandidates::in_slave_order(&order, chunks)
+        SlaveCandidates::in_slave_order(&classified.positions(), chunks)
     };
     drop((master_bvs, master_kdops));
     crate::trace::mark("slave queries");
@@ -468,15 +451,58 @@ pub(super) struct QueryChunk {
     error: Option<(usize, Error)>,
 }
 
-/// The first pass of the slave queries over consecutive slaves: the queries of the far ones.
-#[derive(Default)]
-pub(super) struct FarQueries {
-    /// Their results.
-    chunk: QueryChunk,
-    /// Their positions, in order.
-    done: Vec<usize>,
-    /// The positions and centres of the others.
-    near: Vec<(usize, Point)>,
+/// Which slaves' queries run first, in slave order, and which along a Morton curve of their
+/// centres (`query_order`; [`Far`]).
+pub(super) struct Classified {
+    /// Per block of [`QUERY_CHUNK`] consecutive slaves, the positions of those queried first.
+    first: Vec<Vec<usize>>,
+    /// The positions of the others, along the curve.
+    curve: Vec<usize>,
+}
+
+impl Classified {
+    fn new(model: &ModelPart, slaves: &[ConditionIdx], far: &Far, order: QueryOrder) -> Self {
+        // Per block: the positions queried first, and the others with their centres.
+        type Block = (Vec<usize>, Vec<(usize, Point)>);
+        let blocks: Vec<Block> = slaves
+            .par_chunks(QUERY_CHUNK)
+            .enumerate()
+            .map(|(i, chunk)| {
+                let (mut first, mut near) = (Vec::new(), Vec::new());
+                for (j, &c) in chunk.iter().enumerate() {
+                    let k = i * QUERY_CHUNK + j;
+                    let (centre, radius) = reach(model, c);
+                    let is_first = match order {
+                        QueryOrder::Estimate => far.is_far(&centre, radius),
+                        QueryOrder::AllFirst => true,
+                        QueryOrder::AllAlongCurve => false,
+                    };
+                    if is_first {
+                        first.push(k);
+                    } else {
+                        near.push((k, centre));
+                    }
+                }
+                (first, near)
+            })
+            .collect();
+        let mut first = Vec::with_capacity(blocks.len());
+        let mut near = Vec::new();
+        for (f, n) in blocks {
+            first.push(f);
+            near.extend(n);
+        }
+        let curve = morton_order_of(&near);
+        Classified { first, curve }
+    }
+
+    /// The slave positions of the query chunks, in the chunks' order: the first blocks', then
+    /// the curve in [`QUERY_CHUNK`]s.
+    fn positions(&self) -> Vec<&[usize]> {
+        (self.first.iter().map(Vec::as_slice))
+            .chain(self.curve.chunks(QUERY_CHUNK))
+            .collect()
+    }
 }
 
 /// The candidates of every slave, flat: slave `k`'s are `list[start[k]..start[k + 1]]`.
@@ -488,29 +514,22 @@ pub(super) struct SlaveCandidates {
 }
 
 impl SlaveCandidates {
-    /// From the chunks of the queries in `order` (slave positions along the curve: a
-    /// permutation of the slave positions).
+    /// From the chunks of the queries of the slave positions `positions` (chunk by chunk:
+    /// together a permutation of the slave positions).
     ///
     /// In parallel, with no fresh memory touched on one thread: each query's place (its chunk
     /// and offset there) is written at its slave's position (each position once: the writes
     /// do not depend on their order), then the candidates are copied in blocks of slaves.
-    fn in_slave_order(order: &[usize], chunks: Vec<QueryChunk>) -> SlaveCandidates {
+    fn in_slave_order(positions: &[&[usize]], chunks: Vec<QueryChunk>) -> SlaveCandidates {
         use std::sync::atomic::{AtomicU32, AtomicU64, Ordering::Relaxed};
-        let n = order.len();
-        let mut first = Vec::with_capacity(chunks.len());
-        let mut j = 0;
-        for chunk in &chunks {
-            first.push(j);
-            j += chunk.counts.len();
-        }
+        let n: usize = positions.iter().map(|p| p.len()).sum();
         // Per slave position: its query's chunk (high half) and offset in that chunk's list
         // (low half), and its number of candidates.
         let place: Vec<AtomicU64> = (0..n).into_par_iter().map(|_| AtomicU64::new(0)).collect();
         let count: Vec<AtomicU32> = (0..n).into_par_iter().map(|_| AtomicU32::new(0)).collect();
         chunks.par_iter().enumerate().for_each(|(ci, chunk)| {
             let mut from = 0u64;
-            for (q, &c) in chunk.counts.iter().enumerate() {
-                let k = order[first[ci] + q];
+            for (&k, &c) in positions[ci].iter().zip(&chunk.counts) {
                 place[k].store(((ci as u64) << 32) | from, Relaxed);
                 count[k].store(c, Relaxed);
                 from += u64::from(c);
