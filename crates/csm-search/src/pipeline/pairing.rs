@@ -91,7 +91,6 @@ pub(crate) fn update_index_maps<T: Sync>(
     slave: impl Fn(&T) -> ConditionIdx + Sync,
     update: impl Fn(&mut IndexMap, usize, &[T]) + Sync,
 ) {
-    const NONE: u32 = u32::MAX;
     if entries.is_empty() {
         return;
     }
@@ -99,19 +98,40 @@ pub(crate) fn update_index_maps<T: Sync>(
         .into_par_iter()
         .filter(|&k| k == 0 || slave(&entries[k]) != slave(&entries[k - 1]))
         .collect();
-    let mut group_of = vec![NONE; model.conditions().len()];
-    for (g, &k) in starts.iter().enumerate() {
-        group_of[slave(&entries[k]).index()] = u32::try_from(g).expect("slave groups fit u32");
+    // Each group's slave, by condition index.
+    let mut at: Vec<(u32, usize)> = (starts.par_iter().enumerate())
+        .map(|(g, &k)| (slave(&entries[k]).0, g))
+        .collect();
+    // (Usually in order already: ids and indices of a mesh read ascend together.)
+    if !at.par_windows(2).all(|w| w[0].0 < w[1].0) {
+        at.par_sort_unstable();
     }
-    model
-        .index_maps_mut()
-        .par_iter_mut()
-        .zip(group_of.par_iter())
-        .filter(|(_, g)| **g != NONE)
-        .for_each(|(map, &g)| {
-            let g = g as usize;
-            let end = starts.get(g + 1).copied().unwrap_or(entries.len());
-            update(map, starts[g], &entries[starts[g]..end]);
+    update_listed_maps(model, &at, |map, &g| {
+        let end = starts.get(g + 1).copied().unwrap_or(entries.len());
+        update(map, starts[g], &entries[starts[g]..end]);
+    });
+}
+
+/// Calls `update(map, value)` on the INDEX_MAP of each condition of `at` (condition index and
+/// a value, ascending and distinct indices), in parallel. The maps are taken in blocks of
+/// consecutive conditions, and only the listed ones are visited: a step that updates a few
+/// thousand maps does not walk every condition's.
+pub(crate) fn update_listed_maps<V: Sync>(
+    model: &mut ModelPart,
+    at: &[(u32, V)],
+    update: impl Fn(&mut IndexMap, &V) + Sync,
+) {
+    debug_assert!(at.windows(2).all(|w| w[0].0 < w[1].0));
+    const MAPS: usize = 4096;
+    (model.index_maps_mut().par_chunks_mut(MAPS))
+        .enumerate()
+        .for_each(|(b, maps)| {
+            let first = b * MAPS;
+            let from = at.partition_point(|(c, _)| (*c as usize) < first);
+            let to = at.partition_point(|(c, _)| (*c as usize) < first + maps.len());
+            for (c, value) in &at[from..to] {
+                update(&mut maps[*c as usize - first], value);
+            }
         });
 }
 

@@ -337,24 +337,15 @@ fn mapping_check_in_parallel(
             }
         }
     });
-    const MAPS: usize = 4096;
-    (model.index_maps_mut().par_chunks_mut(MAPS))
-        .enumerate()
-        .for_each(|(b, maps)| {
-            let first = (b * MAPS) as u32;
-            let from = with.partition_point(|&(s, _)| s < first);
-            let to = with.partition_point(|&(s, _)| (s as usize) < b * MAPS + maps.len());
-            for &(s, k) in &with[from..to] {
-                let k = k as usize;
-                let of_slave = &kept[start[k] as usize..start[k + 1] as usize];
-                let map = &mut maps[(s - first) as usize];
-                // One allocation per map (the entries would grow it a few times each).
-                map.reserve(of_slave.iter().flatten().count());
-                for &master in of_slave.iter().flatten() {
-                    map.add_id(master);
-                }
-            }
-        });
+    update_listed_maps(model, &with, |map, &k| {
+        let k = k as usize;
+        let of_slave = &kept[start[k] as usize..start[k + 1] as usize];
+        // One allocation per map (the entries would grow it a few times each).
+        map.reserve(of_slave.iter().flatten().count());
+        for &master in of_slave.iter().flatten() {
+            map.add_id(master);
+        }
+    });
     true
 }
 

@@ -22,6 +22,7 @@ use super::octree::{OctreeContext, search_octree_report};
 pub use super::pairing::PairedCondition;
 use super::pairing::{
     PairingContext, active_snapshot, apply_candidates, mapping_check_keeps, update_index_maps,
+    update_listed_maps,
 };
 use super::result::{NodeResult, SearchResult};
 use super::self_contact::{compute_self_contact_pairing, not_predefined_master_slave};
