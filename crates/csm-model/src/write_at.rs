@@ -1,7 +1,6 @@
 //! Parallel writes at ascending positions of an array ([`write_at_ascending`]): the scatter
 //! of a part's values (its nodes and conditions are listed in ascending dense index) into a
-//! column of the whole model, without a serial pass; and the in-order filter of a list into
-//! a new one ([`filtered`]), likewise.
+//! column of the whole model, without a serial pass.
 
 use rayon::prelude::*;
 
@@ -53,43 +52,6 @@ fn split_writes<T: Send>(
         || split_writes(low, (offset, items.start..mid), at, write),
         || split_writes(high, (offset + cut, mid..items.end), at, write),
     );
-}
-
-/// Items per block of [`filtered`].
-const FILTER_BLOCK: usize = 1 << 12;
-
-/// The items of `items` that `keep` keeps, in their order: the list
-/// `items.iter().copied().filter(keep).collect()` gives, built in parallel without a serial
-/// pass. (rayon's `filter(…).collect()` gathers each task's items, then copies them all into
-/// the final list on one thread.) Each block's kept items are counted first, then each block
-/// writes its own piece of the list: `keep` runs twice per item, so it should be cheap, such
-/// as a test of flags. On one thread, and for short lists, the plain loop.
-pub fn filtered<T: Copy + Send + Sync>(items: &[T], keep: impl Fn(&T) -> bool + Sync) -> Vec<T> {
-    if items.len() < 2 * FILTER_BLOCK || rayon::current_num_threads() < 2 {
-        return items.iter().copied().filter(|x| keep(x)).collect();
-    }
-    let counts: Vec<usize> = (items.par_chunks(FILTER_BLOCK))
-        .map(|block| block.iter().filter(|x| keep(x)).count())
-        .collect();
-    let total = counts.iter().sum();
-    // (Any item fills the list first: every place is written below.)
-    let fill = items[0];
-    let mut out: Vec<T> = (0..total).into_par_iter().map(|_| fill).collect();
-    let mut pieces = Vec::with_capacity(counts.len());
-    let mut rest = out.as_mut_slice();
-    for &count in &counts {
-        let (piece, tail) = std::mem::take(&mut rest).split_at_mut(count);
-        pieces.push(piece);
-        rest = tail;
-    }
-    (items.par_chunks(FILTER_BLOCK))
-        .zip(pieces)
-        .for_each(|(block, piece)| {
-            for (place, x) in piece.iter_mut().zip(block.iter().filter(|x| keep(x))) {
-                *place = *x;
-            }
-        });
-    out
 }
 
 #[cfg(test)]
@@ -153,32 +115,5 @@ mod tests {
     fn a_position_past_the_end_panics_as_the_loop_does() {
         let positions: Vec<usize> = (0..10_000).map(|k| 2 * k).collect();
         parallel(15_000, &positions, 2);
-    }
-
-    #[test]
-    fn filtered_keeps_the_loops_items_in_order_on_any_pool() {
-        let items: Vec<u32> = (0..50_000).map(|k| (k * 7919) % 100_003).collect();
-        // Kept in runs and alone, none in some blocks, all in others; and short lists.
-        let keep = |x: &u32| (x.is_multiple_of(3) && *x < 60_000) || (20_000..30_000).contains(x);
-        for len in [0, 1, 8191, 8192, 50_000] {
-            let items = &items[..len];
-            let serial: Vec<u32> = items.iter().copied().filter(keep).collect();
-            for threads in [1, 2, 3] {
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()
-                    .unwrap();
-                assert_eq!(
-                    pool.install(|| filtered(items, keep)),
-                    serial,
-                    "{len} items"
-                );
-            }
-        }
-        let none = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
-        assert!(none.install(|| filtered(&items, |_| false)).is_empty());
     }
 }

@@ -22,12 +22,20 @@ pub(crate) fn sides(model: &ModelPart, sub: PartIdx, inverted: bool) -> Sides {
     let cflags = model.conditions().flags();
     let nflags = model.nodes().flags();
     let nodes = model.part(sub).nodes();
-    // Each side keeps the order of its list (filtered in parallel, in order).
+    // Each side keeps the order of its list (a filter in parallel, collected in order).
     let conditions_with = |flag: Flag| -> Vec<ConditionIdx> {
-        csm_model::filtered(&conditions, |c| cflags[c.index()].is(flag) != inverted)
+        conditions
+            .par_iter()
+            .copied()
+            .filter(|c| cflags[c.index()].is(flag) != inverted)
+            .collect()
     };
     let nodes_with = |flag: Flag| -> Vec<NodeIdx> {
-        csm_model::filtered(nodes, |n| nflags[n.index()].is(flag) != inverted)
+        nodes
+            .par_iter()
+            .copied()
+            .filter(|n| nflags[n.index()].is(flag) != inverted)
+            .collect()
     };
     Sides {
         slave_conditions: conditions_with(Flag::SLAVE),

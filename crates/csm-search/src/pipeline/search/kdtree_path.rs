@@ -38,8 +38,9 @@ pub(super) fn kdtree_search(
     };
     let master_list: Vec<u32> = match points {
         Some(list) => list,
-        None => filtered(&conditions, |c| flags[c.index()].is(Flag::MASTER) == check)
-            .into_par_iter()
+        None => conditions
+            .par_iter()
+            .filter(|c| flags[c.index()].is(Flag::MASTER) == check)
             .map(|c| c.get())
             .collect(),
     };
@@ -73,10 +74,14 @@ pub(super) fn kdtree_search(
     // The slave side, and which slaves are queried first, found beside the tree's build
     // (whose first split is one thread's work): the far test needs only the centres' box,
     // the tree's own.
-    let slaves: Vec<ConditionIdx> = filtered(&conditions, |c| {
-        let f = flags[c.index()];
-        pre_search || (f.is_defined(Flag::ACTIVE) && f.is(Flag::SLAVE) != inverted)
-    });
+    let slaves: Vec<ConditionIdx> = conditions
+        .par_iter()
+        .copied()
+        .filter(|c| {
+            let f = model.conditions().flags()[c.index()];
+            pre_search || (f.is_defined(Flag::ACTIVE) && f.is(Flag::SLAVE) != inverted)
+        })
+        .collect();
     let far = Far::new(csm_trees::par_bounds_of(&centres), p.search_factor);
     let shared: &ModelPart = model;
     let classify = || Classified::new(shared, &slaves, &far, query_order);

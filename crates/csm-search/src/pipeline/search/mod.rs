@@ -10,7 +10,7 @@ use csm_geometry::{Geometry, Kdop18};
 use csm_model::{
     ConditionId, ConditionIdx, Flag, KeptFaceNormals, ModelPart, NodalHMode, NodeIdx, NormalsMode,
     PartIdx, ScalarVar, UnitNormalsSnapshot, VectorVar, assign_nodal_h, compute_unit_normals,
-    compute_unit_normals_from_kept, filtered, write_at_ascending,
+    compute_unit_normals_from_kept, write_at_ascending,
 };
 use csm_trees::KdTree;
 use rayon::prelude::*;

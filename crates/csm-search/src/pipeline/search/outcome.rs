@@ -36,7 +36,8 @@ impl ContactSearch {
             let conditions = model.part(pair.sub).conditions();
             // The slaves listed first (small entries), then their entries written in place by
             // an indexed collect: no unindexed collect's serial copy into fresh memory.
-            let slave_list: Vec<ConditionIdx> = filtered(conditions, is_slave);
+            let slave_list: Vec<ConditionIdx> =
+                conditions.par_iter().copied().filter(is_slave).collect();
             let mut slaves: Vec<(u32, Vec<u32>)> = slave_list
                 .par_iter()
                 .map(|c| {
