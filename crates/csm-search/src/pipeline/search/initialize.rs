@@ -205,6 +205,7 @@ impl ContactSearch {
                 globals: PairGlobals::default(),
                 used: PairGlobals::default(),
                 ranks: None,
+                step_pairs: None,
             });
         }
         // TO_ERASE is reset on every Contact condition after the clones (§4.1); csm never

@@ -60,6 +60,7 @@ use mortar_conditions::{
 };
 #[cfg(test)]
 pub(crate) use outcome::by_slave;
+use outcome::slave_entries;
 #[cfg(test)]
 pub(crate) use query_order::morton_order;
 use query_order::morton_order_of;
@@ -91,6 +92,10 @@ struct PairSearch {
     used: PairGlobals,
     /// A distributed run: this rank's part in it ([`ContactSearch::set_ranks`]).
     ranks: Option<csm_model::Ranks>,
+    /// The slaves' masters of this step, as the result lists them (`SearchResult.pairs`),
+    /// built by MappingCheck's pairing once the mapping has pruned the INDEX_MAPs (nothing
+    /// after it changes their keys); taken by the step's result, cleared at every step.
+    step_pairs: Option<BTreeMap<u32, Vec<u32>>>,
 }
 
 /// A kd-tree kept from one step to the next, with the condition ids it was built over (in
@@ -302,6 +307,9 @@ impl ContactSearch {
         };
         self.steps_run += 1;
         self.reset_marker(model);
+        for pair in &mut self.pairs {
+            pair.step_pairs = None;
+        }
         let run = RunMode::of(&self.setup, self.tuning);
         let pair = &mut self.pairs[i];
         let Some(pair_plan) = self.plan.pairs.get(&key) else {
@@ -351,7 +359,12 @@ impl ContactSearch {
         };
         check_pairing(model, pair, step, run)?;
         self.reset_marker(model);
-        Ok(self.result(model))
+        let result = self.result_of_step(model);
+        debug_assert!(
+            result == self.result(model),
+            "the step's result is the state's"
+        );
+        Ok(result)
     }
 
     /// The search instance (Kratos template class) chosen for pair `key`.
@@ -378,6 +391,7 @@ impl ContactSearch {
         self.steps_run += 1;
         for pair in &mut self.pairs {
             pair.pruned.clear();
+            pair.step_pairs = None;
         }
         if searched {
             self.reset_marker(model);
@@ -411,7 +425,11 @@ impl ContactSearch {
             set_node_flag_on(model, contact, Flag::ACTIVE, false);
             initialize::set_flag_on(model, contact, Flag::ACTIVE, false);
         }
-        let result = self.result(model);
+        let result = self.result_of_step(model);
+        debug_assert!(
+            result == self.result(model),
+            "the step's result is the state's"
+        );
         crate::trace::mark("result");
         Ok(result)
     }

@@ -7,14 +7,31 @@ use super::*;
 impl ContactSearch {
     /// The RESULT.json content of the current state.
     pub fn result(&self, model: &ModelPart) -> SearchResult {
+        self.assemble(model, self.pairs.iter().map(|_| None).collect())
+    }
+
+    /// [`ContactSearch::result`] at the end of a step: the slaves' masters of a pair whose
+    /// pairing built them already (`PairSearch::step_pairs`) are taken from there.
+    pub(super) fn result_of_step(&mut self, model: &ModelPart) -> SearchResult {
+        let built = (self.pairs.iter_mut())
+            .map(|pair| pair.step_pairs.take())
+            .collect();
+        self.assemble(model, built)
+    }
+
+    /// The result, with `built[i]`, where given, as pair `i`'s slaves and their masters.
+    fn assemble(
+        &self,
+        model: &ModelPart,
+        mut built: Vec<Option<BTreeMap<u32, Vec<u32>>>>,
+    ) -> SearchResult {
         let mut result = SearchResult {
             warnings: self.warnings.clone(),
             kratos_condition_ids: self.kratos_ids.clone(),
             ..Default::default()
         };
-        let ids = model.conditions().ids();
         let node_ids = model.nodes().ids();
-        for pair in &self.pairs {
+        for (pair, built) in self.pairs.iter().zip(&mut built) {
             let inverted = pair.params.inverted_search;
             // Collected in vectors and bulk-built into the maps (sorted input: no per-entry
             // tree insertion).
@@ -29,30 +46,19 @@ impl ContactSearch {
             } else {
                 None
             };
-            // The slave conditions with their masters, and their nodes marked (in parallel:
-            // the entries are sorted by id after, the marks are all `true`).
+            // The slave conditions with their masters (the map the pairing built, or the
+            // entries for it), and their nodes marked (in parallel: the marks are all `true`).
+            let slaves = built
+                .take()
+                .ok_or_else(|| slave_entries(model, pair.sub, inverted));
             let cflags = model.conditions().flags();
             let is_slave = |c: &ConditionIdx| cflags[c.index()].is(Flag::SLAVE) != inverted;
             let conditions = model.part(pair.sub).conditions();
-            // The slaves listed first (small entries), then their entries written in place by
-            // an indexed collect: no unindexed collect's serial copy into fresh memory.
-            let slave_list: Vec<ConditionIdx> =
-                conditions.par_iter().copied().filter(is_slave).collect();
-            let mut slaves: Vec<(u32, Vec<u32>)> = slave_list
-                .par_iter()
-                .map(|c| {
-                    let masters = model.index_map(*c).masters().map(ConditionId::get);
-                    (ids[c.index()], masters.collect())
-                })
-                .collect();
             conditions.par_iter().filter(|c| is_slave(c)).for_each(|c| {
                 for n in model.conditions().nodes(c.index()) {
                     on_slave_side[n.index()].store(true, Ordering::Relaxed);
                 }
             });
-            // A part's conditions are duplicate-free, so each id comes once. (Usually in id
-            // order already: the check runs in parallel, the sort's own check would not.)
-            sort_by_id(&mut slaves);
             let node_flags = model.nodes().flags();
             let marked: Vec<u32> = (0..on_slave_side.len() as u32)
                 .into_par_iter()
@@ -80,7 +86,7 @@ impl ContactSearch {
             // The two ordered maps are built side by side (each is one serial pass).
             let (slaves, node_results): (BTreeMap<u32, Vec<u32>>, BTreeMap<u32, NodeResult>) =
                 rayon::join(
-                    || slaves.into_iter().collect(),
+                    || slaves.unwrap_or_else(|entries| entries.into_iter().collect()),
                     || node_results.into_iter().collect(),
                 );
             if result.nodes.is_empty() {
@@ -99,6 +105,35 @@ impl ContactSearch {
         }
         result
     }
+}
+
+/// The slave conditions of ContactSub `sub` with their INDEX_MAPs' masters, by slave id (the
+/// entries of `SearchResult.pairs`, before they become its map).
+pub(super) fn slave_entries(
+    model: &ModelPart,
+    sub: PartIdx,
+    inverted: bool,
+) -> Vec<(u32, Vec<u32>)> {
+    let ids = model.conditions().ids();
+    let cflags = model.conditions().flags();
+    let is_slave = |c: &ConditionIdx| cflags[c.index()].is(Flag::SLAVE) != inverted;
+    // The slaves listed first (small entries), then their entries written in place by an
+    // indexed collect: no unindexed collect's serial copy into fresh memory.
+    let slave_list: Vec<ConditionIdx> = (model.part(sub).conditions().par_iter())
+        .copied()
+        .filter(is_slave)
+        .collect();
+    let mut slaves: Vec<(u32, Vec<u32>)> = slave_list
+        .par_iter()
+        .map(|c| {
+            let masters = model.index_map(*c).masters().map(ConditionId::get);
+            (ids[c.index()], masters.collect())
+        })
+        .collect();
+    // A part's conditions are duplicate-free, so each id comes once. (Usually in id order
+    // already: the check runs in parallel, the sort's own check would not.)
+    sort_by_id(&mut slaves);
+    slaves
 }
 
 /// Sorts `entries` by their (distinct) ids, unless they ascend already.
