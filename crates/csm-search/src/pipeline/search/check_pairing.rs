@@ -108,7 +108,7 @@ pub(super) fn check_pairing(
     // not their keys): their ordered map, one serial pass, is built beside the rest of the
     // pairing, for the step's result. (The rest first; its stage marks go on from this
     // thread's, wherever it runs.)
-    let entries = slave_entries(model, sub, inverted);
+    let entries = SlaveEntries::of(model, sub, inverted);
     crate::trace::mark("result entries");
     let marks = crate::trace::last();
     let ((rest, marks), built) = rayon::join(
@@ -232,7 +232,7 @@ pub(super) fn check_pairing(
             };
             (rest(), crate::trace::last())
         },
-        move || entries.into_iter().collect(),
+        move || entries.into_map(),
     );
     crate::trace::resume(marks);
     pair.step_pairs = Some(built);

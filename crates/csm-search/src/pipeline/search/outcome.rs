@@ -50,7 +50,7 @@ impl ContactSearch {
             // entries for it), and their nodes marked (in parallel: the marks are all `true`).
             let slaves = built
                 .take()
-                .ok_or_else(|| slave_entries(model, pair.sub, inverted));
+                .ok_or_else(|| SlaveEntries::of(model, pair.sub, inverted));
             let cflags = model.conditions().flags();
             let is_slave = |c: &ConditionIdx| cflags[c.index()].is(Flag::SLAVE) != inverted;
             let conditions = model.part(pair.sub).conditions();
@@ -86,7 +86,7 @@ impl ContactSearch {
             // The two ordered maps are built side by side (each is one serial pass).
             let (slaves, node_results): (BTreeMap<u32, Vec<u32>>, BTreeMap<u32, NodeResult>) =
                 rayon::join(
-                    || slaves.unwrap_or_else(|entries| entries.into_iter().collect()),
+                    || slaves.unwrap_or_else(SlaveEntries::into_map),
                     || node_results.into_iter().collect(),
                 );
             if result.nodes.is_empty() {
@@ -107,33 +107,56 @@ impl ContactSearch {
     }
 }
 
-/// The slave conditions of ContactSub `sub` with their INDEX_MAPs' masters, by slave id (the
-/// entries of `SearchResult.pairs`, before they become its map).
-pub(super) fn slave_entries(
-    model: &ModelPart,
-    sub: PartIdx,
-    inverted: bool,
-) -> Vec<(u32, Vec<u32>)> {
-    let ids = model.conditions().ids();
-    let cflags = model.conditions().flags();
-    let is_slave = |c: &ConditionIdx| cflags[c.index()].is(Flag::SLAVE) != inverted;
-    // The slaves listed first (small entries), then their entries written in place by an
-    // indexed collect: no unindexed collect's serial copy into fresh memory.
-    let slave_list: Vec<ConditionIdx> = (model.part(sub).conditions().par_iter())
-        .copied()
-        .filter(is_slave)
-        .collect();
-    let mut slaves: Vec<(u32, Vec<u32>)> = slave_list
-        .par_iter()
-        .map(|c| {
-            let masters = model.index_map(*c).masters().map(ConditionId::get);
-            (ids[c.index()], masters.collect())
-        })
-        .collect();
-    // A part's conditions are duplicate-free, so each id comes once. (Usually in id order
-    // already: the check runs in parallel, the sort's own check would not.)
-    sort_by_id(&mut slaves);
-    slaves
+/// The slave conditions of a ContactSub with their INDEX_MAPs' masters: the content of
+/// `SearchResult.pairs` before it becomes its map. Most slaves have no master: their ids are
+/// listed alone (4 B each), and only the others carry their masters.
+pub(super) struct SlaveEntries {
+    /// Every slave's id, ascending.
+    ids: Vec<u32>,
+    /// The slaves with masters, by id: their masters, ascending.
+    masters: Vec<(u32, Vec<u32>)>,
+}
+
+impl SlaveEntries {
+    /// The entries of ContactSub `sub`'s slave side.
+    pub(super) fn of(model: &ModelPart, sub: PartIdx, inverted: bool) -> SlaveEntries {
+        let ids = model.conditions().ids();
+        let cflags = model.conditions().flags();
+        let is_slave = |c: &ConditionIdx| cflags[c.index()].is(Flag::SLAVE) != inverted;
+        let slave_list: Vec<ConditionIdx> = (model.part(sub).conditions().par_iter())
+            .copied()
+            .filter(is_slave)
+            .collect();
+        let mut slave_ids: Vec<u32> = slave_list.par_iter().map(|c| ids[c.index()]).collect();
+        let mut masters: Vec<(u32, Vec<u32>)> = (slave_list.par_iter())
+            .filter(|c| !model.index_map(**c).is_empty())
+            .map(|c| {
+                let masters = model.index_map(*c).masters().map(ConditionId::get);
+                (ids[c.index()], masters.collect())
+            })
+            .collect();
+        // A part's conditions are duplicate-free, so each id comes once. (Usually in id
+        // order already: the checks run in parallel, the sorts' own would not.)
+        if !slave_ids.par_windows(2).all(|w| w[0] < w[1]) {
+            slave_ids.par_sort_unstable();
+        }
+        sort_by_id(&mut masters);
+        SlaveEntries {
+            ids: slave_ids,
+            masters,
+        }
+    }
+
+    /// The map of `SearchResult.pairs`: every slave, with its masters or none.
+    pub(super) fn into_map(self) -> BTreeMap<u32, Vec<u32>> {
+        let mut with = self.masters.into_iter().peekable();
+        (self.ids.into_iter())
+            .map(|id| match with.next_if(|(s, _)| *s == id) {
+                Some(entry) => entry,
+                None => (id, Vec::new()),
+            })
+            .collect()
+    }
 }
 
 /// Sorts `entries` by their (distinct) ids, unless they ascend already.
