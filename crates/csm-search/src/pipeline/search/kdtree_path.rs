@@ -73,7 +73,8 @@ pub(super) fn kdtree_search(
     let kept = if pre_search { None } else { pair.tree.take() };
     // The slave side, and which slaves are queried first, found beside the tree's build
     // (whose first split is one thread's work): the far test needs only the centres' box,
-    // the tree's own.
+    // the tree's own. (The tree finds it again, one parallel pass: `from_parts` takes no
+    // box, and one handed in would be a second source of truth for its extent.)
     let slaves: Vec<ConditionIdx> = conditions
         .par_iter()
         .copied()

@@ -359,12 +359,7 @@ impl ContactSearch {
         };
         check_pairing(model, pair, step, run)?;
         self.reset_marker(model);
-        let result = self.result_of_step(model);
-        debug_assert!(
-            result == self.result(model),
-            "the step's result is the state's"
-        );
-        Ok(result)
+        Ok(self.result_of_step(model))
     }
 
     /// The search instance (Kratos template class) chosen for pair `key`.
@@ -426,10 +421,6 @@ impl ContactSearch {
             initialize::set_flag_on(model, contact, Flag::ACTIVE, false);
         }
         let result = self.result_of_step(model);
-        debug_assert!(
-            result == self.result(model),
-            "the step's result is the state's"
-        );
         crate::trace::mark("result");
         Ok(result)
     }

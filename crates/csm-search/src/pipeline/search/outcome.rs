@@ -16,7 +16,12 @@ impl ContactSearch {
         let built = (self.pairs.iter_mut())
             .map(|pair| pair.step_pairs.take())
             .collect();
-        self.assemble(model, built)
+        let result = self.assemble(model, built);
+        debug_assert!(
+            result == self.result(model),
+            "the step's result is the state's"
+        );
+        result
     }
 
     /// The result, with `built[i]`, where given, as pair `i`'s slaves and their masters.
@@ -46,11 +51,7 @@ impl ContactSearch {
             } else {
                 None
             };
-            // The slave conditions with their masters (the map the pairing built, or the
-            // entries for it), and their nodes marked (in parallel: the marks are all `true`).
-            let slaves = built
-                .take()
-                .ok_or_else(|| SlaveEntries::of(model, pair.sub, inverted));
+            // The slave conditions' nodes marked (in parallel: the marks are all `true`).
             let cflags = model.conditions().flags();
             let is_slave = |c: &ConditionIdx| cflags[c.index()].is(Flag::SLAVE) != inverted;
             let conditions = model.part(pair.sub).conditions();
@@ -86,7 +87,12 @@ impl ContactSearch {
             // The two ordered maps are built side by side (each is one serial pass).
             let (slaves, node_results): (BTreeMap<u32, Vec<u32>>, BTreeMap<u32, NodeResult>) =
                 rayon::join(
-                    || slaves.unwrap_or_else(SlaveEntries::into_map),
+                    // The slaves' masters: the map the pairing built, or built here.
+                    || {
+                        built.take().unwrap_or_else(|| {
+                            SlaveEntries::of(model, pair.sub, inverted).into_map()
+                        })
+                    },
                     || node_results.into_iter().collect(),
                 );
             if result.nodes.is_empty() {
