@@ -32,7 +32,21 @@ pub fn read_mesh(path: &Path) -> Result<ModelPart, Error> {
     }
     let bytes = read_file(path)
         .map_err(|e| Error::new(&file, Location::None, ErrorKind::Io(e.to_string())))?;
-    read_bytes(&ext, &bytes, &file)
+    let model = read_bytes(&ext, &bytes, &file);
+    free_in_background(bytes);
+    model
+}
+
+/// Gives the file's bytes back: on rayon's pool where it has several threads (the `mdpa`
+/// feature), without waiting. Unmapping a large buffer takes one thread milliseconds (the
+/// 67 MB of a 2e5-face `.mdpa`: 4.5 ms) that the caller's next work need not wait for.
+fn free_in_background(bytes: Vec<u8>) {
+    #[cfg(feature = "mdpa")]
+    if rayon::current_num_threads() > 1 {
+        rayon::spawn(move || drop(bytes));
+        return;
+    }
+    drop(bytes);
 }
 
 /// The bytes of the file at `path`. A large file is read in pieces in parallel where rayon is

@@ -165,9 +165,9 @@ fn concat<T: Copy + Default + Send + Sync>(mut parts: Vec<Vec<T>>) -> Vec<T> {
     out
 }
 
-/// Parses the window `data[at..end]` (whole lines of a plain body) in parallel, one chunk per
-/// worker (at least `min_chunk` bytes each); `None` when a chunk does not hold whole records
-/// of the kind `record`.
+/// Parses the window `data[at..end]` (whole lines of a plain body) in parallel, in eight
+/// chunks per worker (at least `min_chunk` bytes each; one chunk on one thread); `None` when a
+/// chunk does not hold whole records of the kind `record`.
 pub(crate) fn parse_window(
     data: &[u8],
     (at, end): (usize, usize),
@@ -175,19 +175,41 @@ pub(crate) fn parse_window(
     min_chunk: usize,
 ) -> Option<Parsed> {
     let workers = rayon::current_num_threads().max(1);
-    let chunk = ((end - at) / workers).max(min_chunk.max(1));
-    let mut bounds = Vec::with_capacity(workers + 1);
+    let bounds = piece_bounds(data, (at, end), workers, min_chunk);
+    if let [(from, to)] = bounds[..] {
+        return parse_chunk(&data[from..to], record);
+    }
+    // Every piece a task of its own (rayon's own split would leave a thread that joins late
+    // nothing to take: its halves are only split again where they are stolen).
+    let parts: Option<Vec<Parsed>> = bounds
+        .into_par_iter()
+        .with_max_len(1)
+        .map(|(from, to)| parse_chunk(&data[from..to], record))
+        .collect();
+    Some(Parsed::concat(parts?))
+}
+
+/// The pieces `parse_window` parses `data[at..end]` in, each ending after a line end (or at
+/// `end`), at least `min_chunk` bytes: eight per worker where there are several, one on one
+/// thread. The window is parsed while another thread inserts the last one
+/// (`parallel_records`); that thread, once done, takes the pieces still waiting. One thread
+/// parses the window whole, and its list is moved without a copy.
+fn piece_bounds(
+    data: &[u8],
+    (at, end): (usize, usize),
+    workers: usize,
+    min_chunk: usize,
+) -> Vec<(usize, usize)> {
+    let pieces = if workers > 1 { workers * 8 } else { 1 };
+    let chunk = ((end - at) / pieces).max(min_chunk.max(1));
+    let mut bounds = Vec::with_capacity(pieces + 1);
     let mut from = at;
     while from < end {
         let to = window_end(data, from, end, chunk);
         bounds.push((from, to));
         from = to;
     }
-    let parts: Option<Vec<Parsed>> = bounds
-        .into_par_iter()
-        .map(|(from, to)| parse_chunk(&data[from..to], record))
-        .collect();
-    Some(Parsed::concat(parts?))
+    bounds
 }
 
 /// The words of `chunk` as records of kind `record`, or `None`.
@@ -356,6 +378,30 @@ mod tests {
         assert_eq!(estimate_records(7, 0, 1000), 7);
         // Absurd sizes saturate instead of overflowing.
         assert!(estimate_records(usize::MAX, 1, usize::MAX) > 0);
+    }
+
+    #[test]
+    fn a_window_is_cut_in_eight_pieces_per_worker_or_kept_whole() {
+        let text = "1 0 0 0\n".repeat(1000).into_bytes();
+        let whole = (0, text.len());
+        for workers in [2, 3] {
+            let bounds = piece_bounds(&text, whole, workers, 1);
+            assert!(bounds.len() >= 8 * workers, "{workers}: {}", bounds.len());
+            assert!(
+                bounds.len() <= 8 * workers + 1,
+                "{workers}: {}",
+                bounds.len()
+            );
+            // Consecutive, covering the window, each ending after a line end.
+            assert_eq!((bounds[0].0, bounds[bounds.len() - 1].1), whole);
+            for w in bounds.windows(2) {
+                assert_eq!(w[0].1, w[1].0);
+                assert_eq!(text[w[0].1 - 1], b'\n');
+            }
+        }
+        assert_eq!(piece_bounds(&text, whole, 1, 1), [whole]);
+        // No piece below `min_chunk` (but the last).
+        assert_eq!(piece_bounds(&text, whole, 2, text.len()), [whole]);
     }
 
     #[test]
