@@ -532,6 +532,22 @@ impl ModelPart {
         &self.parts[idx.index()]
     }
 
+    /// The conditions of part `idx` in Kratos' container order (ascending external id). A
+    /// mesh numbered in its own order (the usual case) lists them so already: that list is
+    /// lent (checked in parallel), not copied.
+    pub fn part_conditions_by_id(&self, idx: PartIdx) -> std::borrow::Cow<'_, [ConditionIdx]> {
+        use rayon::prelude::*;
+        let conditions = self.part(idx).conditions();
+        let ids = self.conditions.ids();
+        if (conditions.par_windows(2)).all(|w| ids[w[0].index()] < ids[w[1].index()]) {
+            return std::borrow::Cow::Borrowed(conditions);
+        }
+        let mut v: Vec<ConditionIdx> = conditions.par_iter().copied().collect();
+        // Ids are unique: one order, whatever the sort.
+        v.par_sort_unstable_by_key(|c| ids[c.index()]);
+        std::borrow::Cow::Owned(v)
+    }
+
     /// The parts directly under the root, in creation order.
     pub fn root_parts(&self) -> &[PartIdx] {
         &self.roots

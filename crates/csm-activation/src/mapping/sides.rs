@@ -36,10 +36,7 @@ pub(crate) fn sides(model: &ModelPart, sub: PartIdx, inverted: bool) -> Sides {
     };
     let ((slave_conditions, master_conditions), (slave_nodes, master_nodes)) = rayon::join(
         || {
-            let ids = model.conditions().ids();
-            let mut conditions = model.part(sub).conditions().to_vec();
-            // Ids are unique: one order, whatever the sort.
-            conditions.par_sort_unstable_by_key(|c| ids[c.index()]);
+            let conditions = model.part_conditions_by_id(sub);
             rayon::join(
                 || conditions_with(&conditions, Flag::SLAVE),
                 || conditions_with(&conditions, Flag::MASTER),

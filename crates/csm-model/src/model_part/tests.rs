@@ -341,3 +341,37 @@ fn bulk_insertion_is_one_by_one_insertion() {
         assert_eq!(entity_summary(&bulk), entity_summary(&one));
     }
 }
+
+/// A model whose conditions, added in index order, have the ids `ids`, all in one part.
+fn conditions_numbered(ids: &[u32]) -> (ModelPart, PartIdx) {
+    let mut model = square();
+    let nodes: Vec<NodeId> = model.nodes().ids()[..3]
+        .iter()
+        .map(|&i| NodeId(i))
+        .collect();
+    let kind = GeometryKind::Triangle3D3;
+    let added: Vec<ConditionIdx> = (ids.iter())
+        .map(|&id| {
+            let c = model.add_condition(ConditionId(id), kind, "c", &nodes, PropertiesId(0));
+            c.unwrap()
+        })
+        .collect();
+    let part = model.create_part("Numbered").unwrap();
+    model.add_conditions_to_part(part, &added);
+    (model, part)
+}
+
+#[test]
+fn a_part_in_id_order_is_lent_and_another_sorted() {
+    let (model, part) = conditions_numbered(&[103, 105, 109, 112]);
+    let listed = model.part_conditions_by_id(part);
+    assert!(matches!(listed, std::borrow::Cow::Borrowed(_)));
+    assert_eq!(*listed, *model.part(part).conditions());
+    let (model, part) = conditions_numbered(&[109, 103, 112, 105]);
+    let listed = model.part_conditions_by_id(part);
+    assert!(matches!(listed, std::borrow::Cow::Owned(_)));
+    let ids: Vec<u32> = (listed.iter())
+        .map(|c| model.conditions().ids()[c.index()])
+        .collect();
+    assert_eq!(ids, [103, 105, 109, 112]);
+}

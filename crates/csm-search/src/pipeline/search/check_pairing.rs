@@ -150,10 +150,12 @@ pub(super) fn check_pairing(
                 crate::trace::mark("unit normals after mapping");
                 // CreateAuxiliaryConditions: slave side, entries without a paired condition.
                 if p.create_auxiliar_conditions {
-                    // The entries are gathered in parallel, in slave order (`finish_pairs` sorts them).
+                    // The entries are gathered in parallel, in the part's order: `finish_pairs`
+                    // sorts them by slave and master id.
                     let m = &*model;
-                    let created: Vec<(ConditionIdx, ConditionIdx)> = conditions_by_id(m, sub)
-                        .into_par_iter()
+                    let created: Vec<(ConditionIdx, ConditionIdx)> = (m.part(sub).conditions())
+                        .par_iter()
+                        .copied()
                         .filter(|s| m.conditions().flags()[s.index()].is(Flag::SLAVE) != inverted)
                         .flat_map_iter(|s| {
                             m.index_map(s).iter().filter_map(move |(master, paired)| {

@@ -382,7 +382,7 @@ pub(super) fn self_contact_roles(
     if pair.points.is_empty() {
         let flags = model.conditions().flags();
         pair.points = conditions_by_id(model, sub)
-            .into_iter()
+            .iter()
             .filter(|c| flags[c.index()].is(Flag::MASTER))
             .map(|c| c.get())
             .collect();
@@ -412,7 +412,7 @@ pub(super) fn self_contact_roles(
         &mut none,
     )?;
     compute_self_contact_pairing(model, sub)?;
-    let conditions = conditions_by_id(model, sub);
+    let conditions = conditions_by_id(model, sub).into_owned();
     pair.points = conditions
         .iter()
         .filter(|c| model.index_map(**c).is_empty())

@@ -1,6 +1,7 @@
 //! The driver: `ExecuteInitialize`, `ExecuteInitializeSolutionStep` and
 //! `ExecuteFinalizeSolutionStep` of Kratos' ALMContactProcess and its search processes.
 
+use std::borrow::Cow;
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -139,12 +140,8 @@ fn model_error(e: csm_model::Error) -> Error {
 }
 
 /// Conditions of `part` in Kratos' container order (ascending external id).
-fn conditions_by_id(model: &ModelPart, part: PartIdx) -> Vec<ConditionIdx> {
-    let mut v = model.part(part).conditions().to_vec();
-    let ids = model.conditions().ids();
-    // Ids are unique: one order, whatever the sort.
-    v.par_sort_unstable_by_key(|c| ids[c.index()]);
-    v
+fn conditions_by_id(model: &ModelPart, part: PartIdx) -> Cow<'_, [ConditionIdx]> {
+    model.part_conditions_by_id(part)
 }
 
 impl ContactSearch {
