@@ -118,9 +118,13 @@ impl NodalData {
     /// Adds `var` (zero on every node) if absent.
     pub fn add_scalar(&mut self, var: ScalarVar) {
         let n = self.n_nodes;
-        self.scalars
-            .entry(var)
-            .or_insert_with(|| vec![vec![0.0; n]; Self::steps_of(var.is_historical())]);
+        // Each column zeroed on its own (`vec![column; steps]` would copy the first's zeros
+        // into the others, touching every page).
+        self.scalars.entry(var).or_insert_with(|| {
+            (0..Self::steps_of(var.is_historical()))
+                .map(|_| vec![0.0; n])
+                .collect()
+        });
     }
 
     /// Adds `var` (zero on every node) if absent.
@@ -222,6 +226,18 @@ impl NodalData {
             self.renew(var);
         }
         self.vectors.get_mut(&var)?.get_mut(step)
+    }
+
+    /// [`NodalData::set_vector`] of a scalar variable.
+    pub fn set_scalar(&mut self, var: ScalarVar, values: Vec<Real>) -> Result<(), Vec<Real>> {
+        if values.len() != self.n_nodes {
+            return Err(values);
+        }
+        self.add_scalar(var);
+        if let Some(current) = self.scalars.get_mut(&var).and_then(|c| c.first_mut()) {
+            *current = values;
+        }
+        Ok(())
     }
 
     /// Sets the current values (buffer step 0) of `var` to `values`, by node index, moving

@@ -146,11 +146,8 @@ fn lower_nodal_h(model: &ModelPart, e: usize, mode: NodalHMode, h: &mut [Real]) 
 /// `NODAL_H` (current step), adding the variable if needed.
 pub fn assign_nodal_h(model: &mut ModelPart, part: Option<PartIdx>, mode: NodalHMode) {
     let h = compute_nodal_h(model, part, mode);
-    let data = model.nodal_data_mut();
-    data.add_scalar(ScalarVar::NodalH);
-    if let Some(col) = data.scalar_mut(ScalarVar::NodalH, 0) {
-        col.copy_from_slice(&h);
-    }
+    // (One value per node: the list comes back only where it has not.)
+    let _ = model.nodal_data_mut().set_scalar(ScalarVar::NodalH, h);
 }
 
 #[cfg(test)]

@@ -124,3 +124,19 @@ fn set_vector_moves_the_values_in() {
         &[v(5.0), v(6.0)]
     );
 }
+
+/// `set_scalar` as `set_vector`: the values moved in as step 0, an absent variable added with
+/// its other steps zero, a list of the wrong length handed back.
+#[test]
+fn set_scalar_moves_the_values_in() {
+    let mut d = NodalData::default();
+    d.resize(2);
+    assert_eq!(d.set_scalar(ScalarVar::NodalH, vec![1.0]), Err(vec![1.0]));
+    assert!(d.scalar(ScalarVar::NodalH, 0).is_none(), "nothing added");
+    d.set_scalar(ScalarVar::NodalH, vec![1.0, 2.0]).unwrap();
+    assert_eq!(d.scalar(ScalarVar::NodalH, 0).unwrap(), &[1.0, 2.0]);
+    assert_eq!(d.scalar(ScalarVar::NodalH, 1).unwrap(), &[0.0, 0.0]);
+    d.set_scalar(ScalarVar::NodalH, vec![3.0, 4.0]).unwrap();
+    assert_eq!(d.scalar(ScalarVar::NodalH, 0).unwrap(), &[3.0, 4.0]);
+    assert_eq!(d.scalar(ScalarVar::NodalH, 1).unwrap(), &[0.0, 0.0]);
+}
