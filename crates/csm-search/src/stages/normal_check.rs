@@ -125,6 +125,11 @@ pub fn normal_check(
     normal_check_with_normals(model, settings).map(|(report, _)| report)
 }
 
+/// Elements per parallel task of the element passes at most: the cost of an element varies
+/// (most are tested once, some probed many times), and rayon splits a task only where it is
+/// stolen, so a large task left at the end of a pass would run on one thread alone.
+const ELEMENTS_PER_TASK: usize = 1024;
+
 /// One element's face test: `None` for a slender element, else the local indices of the nodes
 /// of its inward faces (empty: none).
 type FaceTest = Result<Option<Vec<usize>>, Error>;
@@ -155,6 +160,7 @@ pub fn normal_check_with_normals(
         let m = &*model;
         order
             .par_iter()
+            .with_max_len(ELEMENTS_PER_TASK)
             .map_init(
                 || (Vec::<Point>::new(), Vec::<Point>::new()),
                 |(points, face_points), &e| (e, inward_faces(m, e, lp, tol, points, face_points)),
@@ -181,10 +187,18 @@ pub fn normal_check_with_normals(
         }
     }
     report.inverted_conditions = mark_conditions(model);
-    for e in model.elements().indices_by_id() {
-        if model.elements().flags()[e].is(Flag::MARKER) {
-            invert(model, EntityKind::Element, e, kratos);
-        }
+    // The marked elements (most meshes have none), found in parallel, inverted in id order.
+    let mut marked: Vec<usize> = {
+        let flags = model.elements().flags();
+        (0..flags.len())
+            .into_par_iter()
+            .filter(|&e| flags[e].is(Flag::MARKER))
+            .collect()
+    };
+    let ids = model.elements().ids();
+    marked.sort_unstable_by_key(|&e| ids[e]);
+    for e in marked {
+        invert(model, EntityKind::Element, e, kratos);
     }
     invert_marked_conditions(model, kratos);
     // The unit normals depend on the conditions only (coordinates and node order): without an
@@ -206,6 +220,7 @@ pub fn normal_check_with_normals(
         let m = &*model;
         order
             .par_iter()
+            .with_max_len(ELEMENTS_PER_TASK)
             .map_init(Vec::<Point>::new, |points, &e| {
                 inward_nodes(m, e, &normals, (lp, tol, kratos), points)
             })
@@ -220,9 +235,11 @@ pub fn normal_check_with_normals(
             inward[n.index()] = true;
         }
     }
+    let node_ids = model.nodes().ids();
     report.inward_nodes = (0..inward.len())
+        .into_par_iter()
         .filter(|&i| inward[i])
-        .map(|i| model.nodes().ids()[i])
+        .map(|i| node_ids[i])
         .collect();
     report.inward_nodes.sort_unstable();
     report.inverted_conditions_by_nodes = mark_conditions(model);
@@ -532,16 +549,23 @@ fn mark_conditions(model: &mut ModelPart) -> Vec<ConditionId> {
         .for_each(|(f, &a)| f.set(Flag::MARKER, a));
     let ids = model.conditions().ids();
     (0..all.len())
+        .into_par_iter()
         .filter(|&c| all[c])
         .map(|c| ConditionId(ids[c]))
         .collect()
 }
 
+/// Inverts the MARKER conditions (most meshes have none: found in parallel), in index order.
 fn invert_marked_conditions(model: &mut ModelPart, kratos: bool) {
-    for c in 0..model.conditions().len() {
-        if model.conditions().flags()[c].is(Flag::MARKER) {
-            invert(model, EntityKind::Condition, c, kratos);
-        }
+    let marked: Vec<usize> = {
+        let flags = model.conditions().flags();
+        (0..flags.len())
+            .into_par_iter()
+            .filter(|&c| flags[c].is(Flag::MARKER))
+            .collect()
+    };
+    for c in marked {
+        invert(model, EntityKind::Condition, c, kratos);
     }
 }
 
