@@ -21,9 +21,10 @@ use super::result::{NodeResult, SearchResult, StepResult};
 const ENTRIES_PER_TASK: usize = 4096;
 #[cfg(test)]
 const ENTRIES_PER_TASK: usize = 3;
-/// Tasks per batch (the text of a batch is held at once).
+/// Tasks per batch at least (the text of a batch is held at once; four per thread where
+/// that is more). Small batches: the first batch's formatting is the one no write overlaps.
 #[cfg(not(test))]
-const TASKS_PER_BATCH: usize = 64;
+const TASKS_PER_BATCH: usize = 8;
 #[cfg(test)]
 const TASKS_PER_BATCH: usize = 2;
 
@@ -53,33 +54,33 @@ fn pretty_at(out: &mut Vec<u8>, value: &impl Serialize, level: usize) -> std::io
     Ok(())
 }
 
-/// One entry `"key": value` of a map at depth `level` (the entry's own line, without the
-/// separator).
-type Entry<'a, K, V> = (&'a K, &'a V);
-
 /// Writes a map at depth `level` whose entries `format` writes (key and value, from the
-/// entry's indentation on), in parallel batches.
-fn write_map<K: Sync, V: Sync>(
+/// entry's indentation on), formatted in parallel: the keys' range is cut into tasks of
+/// about [`ENTRIES_PER_TASK`] entries each (read from the map in place, not listed first),
+/// batches of at least [`TASKS_PER_BATCH`] tasks written in order. With several threads a batch is
+/// formatted while this thread writes the one before.
+fn write_map<V: Sync>(
     w: &mut impl Write,
-    entries: &[Entry<'_, K, V>],
+    map: &BTreeMap<u32, V>,
     level: usize,
-    format: impl Fn(&mut Vec<u8>, &K, &V) + Sync,
+    format: impl Fn(&mut Vec<u8>, u32, &V) + Sync,
 ) -> std::io::Result<()> {
-    if entries.is_empty() {
+    let (Some((&first, _)), Some((&last, _))) = (map.first_key_value(), map.last_key_value())
+    else {
         return w.write_all(b"{}");
-    }
+    };
     w.write_all(b"{")?;
-    for (b, batch) in entries
-        .chunks(ENTRIES_PER_TASK * TASKS_PER_BATCH)
-        .enumerate()
-    {
-        let texts: Vec<Vec<u8>> = batch
-            .par_chunks(ENTRIES_PER_TASK)
+    let tasks = key_ranges(first, last, map.len().div_ceil(ENTRIES_PER_TASK));
+    let format_batch = |batch: &[(u32, u32)], first_task: usize| -> Vec<Vec<u8>> {
+        batch
+            .par_iter()
+            .with_max_len(1)
             .enumerate()
-            .map(|(task, chunk)| {
-                let mut out = Vec::with_capacity(chunk.len() * 32);
-                for (k, (key, value)) in chunk.iter().enumerate() {
-                    if b > 0 || task > 0 || k > 0 {
+            .map(|(t, &(from, through))| {
+                let mut out = Vec::new();
+                for (k, (&key, value)) in map.range(from..=through).enumerate() {
+                    // The first task starts at the first key: every other entry follows one.
+                    if first_task + t > 0 || k > 0 {
                         out.push(b',');
                     }
                     out.push(b'\n');
@@ -88,12 +89,47 @@ fn write_map<K: Sync, V: Sync>(
                 }
                 out
             })
-            .collect();
-        for t in texts {
-            w.write_all(&t)?;
+            .collect()
+    };
+    let write_texts = |w: &mut dyn Write, texts: &[Vec<u8>]| -> std::io::Result<()> {
+        texts.iter().try_for_each(|t| w.write_all(t))
+    };
+    let threads = rayon::current_num_threads();
+    let per_batch = TASKS_PER_BATCH.max(4 * threads);
+    let mut pending: Vec<Vec<u8>> = Vec::new();
+    for (b, batch) in tasks.chunks(per_batch).enumerate() {
+        let first_task = b * per_batch;
+        if threads > 1 {
+            let mut texts = Vec::new();
+            let mut written = Ok(());
+            rayon::in_place_scope(|scope| {
+                scope.spawn(|_| texts = format_batch(batch, first_task));
+                written = write_texts(w, &pending);
+            });
+            written?;
+            pending = texts;
+        } else {
+            write_texts(w, &pending)?;
+            pending = format_batch(batch, first_task);
         }
     }
+    write_texts(w, &pending)?;
     close(w, level, b'}')
+}
+
+/// `count` (at least one, at most the keys') consecutive ranges `from..=through` of about
+/// equal width covering the keys `first..=last`.
+fn key_ranges(first: u32, last: u32, count: usize) -> Vec<(u32, u32)> {
+    let (first, width) = (u64::from(first), u64::from(last - first) + 1);
+    let count = (count.max(1) as u64).min(width);
+    let key = |k: u64| u32::try_from(k).expect("a key between first and last");
+    (0..count)
+        .map(|i| {
+            let from = first + width * i / count;
+            let to = first + width * (i + 1) / count;
+            (key(from), key(to - 1))
+        })
+        .collect()
 }
 
 /// An integer as serde_json writes it (its integer formatter, no allocation).
@@ -130,8 +166,8 @@ fn slave_entry(out: &mut Vec<u8>, id: u32, masters: &[u32], level: usize) {
 }
 
 /// `"id": {"normal_gap": …, "active": …}` at depth `level`.
-fn node_entry(out: &mut Vec<u8>, id: &u32, node: &NodeResult, level: usize) {
-    id_key(out, *id);
+fn node_entry(out: &mut Vec<u8>, id: u32, node: &NodeResult, level: usize) {
+    id_key(out, id);
     out.extend_from_slice(b"{\n");
     indent(out, level + 1);
     out.extend_from_slice(b"\"normal_gap\": ");
@@ -173,9 +209,8 @@ fn write_pairs(
         serde_json::to_writer(&mut head, key).map_err(std::io::Error::from)?;
         head.extend_from_slice(b": ");
         w.write_all(&head)?;
-        let entries: Vec<Entry<'_, u32, Vec<u32>>> = slaves.iter().collect();
-        write_map(w, &entries, level + 1, |out, id, masters| {
-            slave_entry(out, *id, masters, level + 2);
+        write_map(w, slaves, level + 1, |out, id, masters| {
+            slave_entry(out, id, masters, level + 2);
         })?;
     }
     close(w, level, b'}')
@@ -232,8 +267,7 @@ fn write_result(
     }
     write_pairs(w, &r.pairs, inner)?;
     key(w, "nodes", inner, false)?;
-    let nodes: Vec<Entry<'_, u32, NodeResult>> = r.nodes.iter().collect();
-    write_map(w, &nodes, inner, |out, id, node| {
+    write_map(w, &r.nodes, inner, |out, id, node| {
         node_entry(out, id, node, inner + 1);
     })?;
     key(w, "paired_conditions", inner, false)?;
@@ -343,8 +377,29 @@ mod tests {
     }
 
     #[test]
+    fn key_ranges_cover_the_keys_in_order() {
+        for (first, last, count) in [
+            (5, 5, 1),
+            (5, 5, 4),
+            (0, 99, 7),
+            (10, 13, 9),
+            (0, u32::MAX, 3),
+            (u32::MAX - 2, u32::MAX, 2),
+        ] {
+            let ranges = key_ranges(first, last, count);
+            let expected = count.min((last - first) as usize + 1);
+            assert_eq!(ranges.len(), expected, "{first}..={last} in {count}");
+            assert_eq!((ranges[0].0, ranges[ranges.len() - 1].1), (first, last));
+            for w in ranges.windows(2) {
+                assert_eq!(u64::from(w[0].1) + 1, u64::from(w[1].0));
+            }
+            assert!(ranges.iter().all(|(from, through)| from <= through));
+        }
+    }
+
+    #[test]
     fn the_parallel_text_is_serde_json_pretty() {
-        for (steps, threads) in [(false, 1), (true, 1), (true, 3)] {
+        for (steps, threads) in [(false, 1), (false, 2), (true, 1), (true, 2), (true, 3)] {
             let r = big(steps);
             let timings = [("read", 0.5), ("search", f64::INFINITY), ("total", 1e-9)];
             let pool = rayon::ThreadPoolBuilder::new()
