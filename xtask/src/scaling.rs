@@ -7,7 +7,8 @@
 //!
 //! For every scene (`--scenes stacked_blocks:1e5,sphere_on_plate:2e5`, made by
 //! `tools/bench_scenes.py` like the benchmark's) and every thread count (`--threads 1,2`),
-//! `tools/scaling_runs.sh` runs `csm search --threads N --profile` under `/usr/bin/time`,
+//! `tools/scaling_runs.sh` runs `csm search --threads N --profile` under `/usr/bin/time`
+//! (peak memory; the wall time from the shell's clock around it),
 //! `--repeat` times, the thread counts interleaved so that a slow minute of a shared machine
 //! hits all of them. The script needs no Rust toolchain: on a machine that only has the
 //! binary and the meshes, run it there and render its folder here with `--runs DIR`. Each
@@ -76,7 +77,7 @@ pub struct Options {
 struct Fastest {
     /// The runs merged.
     runs: usize,
-    /// Whole-process wall time (s), `/usr/bin/time`.
+    /// Whole-process wall time (s), the shell's clock around the process.
     wall: f64,
     /// Peak resident memory (kB).
     rss_kb: u64,
@@ -623,8 +624,8 @@ fn section(
          `csm search --threads N --profile` on the default setup (in_radius_with_obb, \
          MappingCheck, kratos mode; `tools/scaling_runs.sh`), thread counts interleaved, {} \
          runs each; every stage's \
-         fastest time, and the fastest whole process (`/usr/bin/time`, which adds start-up and \
-         exit to the phases). The results (RESULT.json but `timings_s`) are identical for \
+         fastest time, and the fastest whole process (the shell's clock around it, to a tenth \
+         of a millisecond, which adds start-up and exit to the phases). The results (RESULT.json but `timings_s`) are identical for \
          every thread count: the sweep checks it.\n\n\
          * **S** = t(1 thread) / t(N threads); **e**: the serial fraction S implies \
          (Karp–Flatt, `(1/S − 1/N) / (1 − 1/N)`: the share of the one-thread time that did \
