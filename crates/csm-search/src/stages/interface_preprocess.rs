@@ -562,6 +562,11 @@ fn check_and_create_properties(
         .find_first(|&e| {
             let kind = model.elements().kind(e);
             let nodes = model.elements().nodes(e);
+            // A face on the condition's nodes holds its first node: most elements are
+            // passed over here, without building and sorting their faces.
+            if key.first().is_some_and(|k| !nodes.contains(k)) {
+                return false;
+            }
             if kind.is_solid() {
                 kind.faces()
                     .iter()
