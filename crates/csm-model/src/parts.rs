@@ -68,3 +68,38 @@ pub(crate) fn merge_sorted<T: Ord + Copy>(v: &mut Vec<T>, items: &[T]) {
         v.dedup();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The merge against a set: appended in order, interleaved, repeated, and items in no
+    /// order, on short and long lists.
+    #[test]
+    fn merging_gives_the_sorted_union() {
+        let big = 3 * (1 << 14);
+        let cases: Vec<(Vec<u32>, Vec<u32>)> = vec![
+            ((0..10).collect(), (10..20).collect()),
+            (
+                (0..10).map(|i| 2 * i).collect(),
+                (0..10).map(|i| 2 * i + 1).collect(),
+            ),
+            (
+                (0..big).map(|i| 2 * i).collect(),
+                (0..big).map(|i| 2 * i + 1).collect(),
+            ),
+            ((0..big).collect(), (big / 2..big + 10).collect()),
+            (
+                Vec::new(),
+                (0..big).rev().map(|i| (i * 7919) % big).collect(),
+            ),
+        ];
+        for (k, (v, items)) in cases.into_iter().enumerate() {
+            let mut expected: std::collections::BTreeSet<u32> = v.iter().copied().collect();
+            expected.extend(&items);
+            let mut merged = v;
+            merge_sorted(&mut merged, &items);
+            assert!(merged.iter().copied().eq(expected), "case {k}");
+        }
+    }
+}
