@@ -57,8 +57,8 @@ fn pretty_at(out: &mut Vec<u8>, value: &impl Serialize, level: usize) -> std::io
 /// Writes a map at depth `level` whose entries `format` writes (key and value, from the
 /// entry's indentation on), formatted in parallel: the keys' range is cut into tasks of
 /// about [`ENTRIES_PER_TASK`] entries each (read from the map in place, not listed first),
-/// batches of at least [`TASKS_PER_BATCH`] tasks written in order. With several threads a batch is
-/// formatted while this thread writes the one before.
+/// batches of at least [`TASKS_PER_BATCH`] tasks written in order. With several threads a
+/// batch is formatted while this thread writes the one before.
 fn write_map<V: Sync>(
     w: &mut impl Write,
     map: &BTreeMap<u32, V>,
