@@ -82,7 +82,7 @@ pub fn face_unit_normals(
 ) -> Result<FaceNormals, Error> {
     let kinds = model.conditions();
     let faces: Vec<ConditionIdx> = conditions
-        .iter()
+        .par_iter()
         .copied()
         .filter(|c| kinds.kind(c.index()).is_face())
         .collect();
@@ -115,10 +115,19 @@ pub fn face_unit_normals(
             Ok(nodes)
         })
         .collect();
-    let mut nodes = Vec::new();
-    for chunk in chunks {
-        nodes.extend(chunk?);
+    let chunks = chunks.into_iter().collect::<Result<Vec<_>, _>>()?;
+    // Joined in parallel: each chunk copied into its place of one zeroed list.
+    let mut nodes = crate::zero_vectors(chunks.iter().map(Vec::len).sum());
+    let mut rest = nodes.as_mut_slice();
+    let mut places = Vec::with_capacity(chunks.len());
+    for chunk in &chunks {
+        let (place, tail) = rest.split_at_mut(chunk.len());
+        places.push((place, chunk.as_slice()));
+        rest = tail;
     }
+    places
+        .into_par_iter()
+        .for_each(|(place, chunk)| place.copy_from_slice(chunk));
     let mut end = 0u32;
     for e in &mut ends {
         end += *e;

@@ -593,18 +593,28 @@ struct MarkerBackup {
 }
 
 impl MarkerBackup {
+    /// The defined MARKERs (most entities have none), found in parallel, in index order.
     fn take(model: &ModelPart) -> MarkerBackup {
         let defined = |flags: &[csm_model::Flags]| -> Vec<(usize, bool)> {
             flags
-                .iter()
+                .par_iter()
                 .enumerate()
                 .filter_map(|(i, f)| f.get(Flag::MARKER).map(|v| (i, v)))
                 .collect()
         };
+        let (nodes, (elements, conditions)) = rayon::join(
+            || defined(model.nodes().flags()),
+            || {
+                rayon::join(
+                    || defined(model.elements().flags()),
+                    || defined(model.conditions().flags()),
+                )
+            },
+        );
         MarkerBackup {
-            nodes: defined(model.nodes().flags()),
-            elements: defined(model.elements().flags()),
-            conditions: defined(model.conditions().flags()),
+            nodes,
+            elements,
+            conditions,
         }
     }
 
