@@ -20,8 +20,11 @@ pub fn write_at_ascending<T: Send>(
     at: impl Fn(usize) -> usize + Sync,
     write: impl Fn(usize, &mut T) + Sync,
 ) {
-    let ascending = n < SERIAL_ITEMS || (1..n).into_par_iter().all(|k| at(k - 1) < at(k));
-    if n < SERIAL_ITEMS || !ascending || rayon::current_num_threads() < 2 {
+    // (One thread writes in order without checking the order first.)
+    let serial = n < SERIAL_ITEMS
+        || rayon::current_num_threads() < 2
+        || !(1..n).into_par_iter().all(|k| at(k - 1) < at(k));
+    if serial {
         for k in 0..n {
             write(k, &mut target[at(k)]);
         }
