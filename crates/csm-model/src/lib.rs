@@ -57,4 +57,4 @@ pub use normals::{
 pub use parts::SubModelPart;
 pub use process_info::ProcessInfo;
 pub use properties::{Properties, PropertyValue};
-pub use write_at::write_at_ascending;
+pub use write_at::{copy_parts_into, write_at_ascending};

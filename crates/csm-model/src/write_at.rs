@@ -57,6 +57,25 @@ fn split_writes<T: Send>(
     );
 }
 
+/// Copies `parts`, one after the other, into `out` (as long as they are together), each part
+/// by a task of its own on rayon's pool: a fresh list's pages are first touched by the thread
+/// that copies into them, not by one thread for all.
+///
+/// Panics where `out` is not as long as the parts together.
+pub fn copy_parts_into<T: Copy + Send + Sync>(out: &mut [T], parts: &[Vec<T>]) {
+    assert_eq!(out.len(), parts.iter().map(Vec::len).sum::<usize>());
+    let mut rest = out;
+    let mut places = Vec::with_capacity(parts.len());
+    for part in parts {
+        let (place, tail) = rest.split_at_mut(part.len());
+        places.push((place, part.as_slice()));
+        rest = tail;
+    }
+    places
+        .into_par_iter()
+        .for_each(|(place, part)| place.copy_from_slice(part));
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -110,6 +129,22 @@ mod tests {
                 parallel(10_007, &positions, threads),
                 serial(10_007, &positions)
             );
+        }
+    }
+
+    #[test]
+    fn parts_are_copied_in_order() {
+        let parts: Vec<Vec<u32>> = (0..50)
+            .map(|k| (0..k * 37).map(|i| i + k).collect())
+            .collect();
+        for threads in [1, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut out = vec![0u32; parts.iter().map(Vec::len).sum()];
+            pool.install(|| copy_parts_into(&mut out, &parts));
+            assert_eq!(out, parts.concat());
         }
     }
 

@@ -152,16 +152,7 @@ fn concat<T: Copy + Default + Send + Sync>(mut parts: Vec<Vec<T>>) -> Vec<T> {
     }
     let total = parts.iter().map(Vec::len).sum();
     let mut out = vec![T::default(); total];
-    let mut rest = out.as_mut_slice();
-    let mut pieces = Vec::with_capacity(parts.len());
-    for part in &parts {
-        let (piece, tail) = rest.split_at_mut(part.len());
-        pieces.push((piece, part.as_slice()));
-        rest = tail;
-    }
-    pieces
-        .into_par_iter()
-        .for_each(|(piece, part)| piece.copy_from_slice(part));
+    csm_model::copy_parts_into(&mut out, &parts);
     out
 }
 

@@ -116,18 +116,9 @@ pub fn face_unit_normals(
         })
         .collect();
     let chunks = chunks.into_iter().collect::<Result<Vec<_>, _>>()?;
-    // Joined in parallel: each chunk copied into its place of one zeroed list.
+    // Joined in parallel into one zeroed list.
     let mut nodes = crate::zero_vectors(chunks.iter().map(Vec::len).sum());
-    let mut rest = nodes.as_mut_slice();
-    let mut places = Vec::with_capacity(chunks.len());
-    for chunk in &chunks {
-        let (place, tail) = rest.split_at_mut(chunk.len());
-        places.push((place, chunk.as_slice()));
-        rest = tail;
-    }
-    places
-        .into_par_iter()
-        .for_each(|(place, chunk)| place.copy_from_slice(chunk));
+    crate::copy_parts_into(&mut nodes, &chunks);
     let mut end = 0u32;
     for e in &mut ends {
         end += *e;
