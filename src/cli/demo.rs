@@ -21,10 +21,9 @@ use std::fmt::Write as _;
 use csm_eval::{GroundTruth, Sample, Score};
 use csm_geometry::GeometryKind;
 use csm_geometry::math::{Point, Real, Vector};
-use csm_model::{
-    ConditionId, ConditionIdx, ElementId, ElementIdx, ModelPart, NodeId, NodeIdx, PropertiesId,
-};
+use csm_model::{ConditionIdx, ElementIdx, ModelPart, NodeIdx, PropertiesId};
 use csm_search::{SearchResult, SearchSetup};
+use rayon::prelude::*;
 
 use crate::cli::Timings;
 
@@ -50,78 +49,41 @@ pub struct DemoScene {
     pub penetration: Real,
 }
 
-/// Adds nodes with consecutive ids after the largest one.
-struct Builder {
-    model: ModelPart,
-    next_node: u32,
-    next_element: u32,
-    next_condition: u32,
-    props: PropertiesId,
+/// Entity records (`id, properties id, node ids…`, as [`ModelPart::add_entity_records`]
+/// reads them) of `count` entities of `n` nodes, filled in parallel on rayon's pool: entity
+/// `k` gets the id `first_id + k`, properties 0 and the node ids `fill(k, &mut ids)` writes.
+fn records(
+    count: usize,
+    n: usize,
+    first_id: u32,
+    fill: impl Fn(usize, &mut [u32]) + Sync,
+) -> Vec<u32> {
+    /// Records per parallel task.
+    const PER_TASK: usize = 4096;
+    let width = n + 2;
+    let mut out = vec![0u32; count * width];
+    out.par_chunks_mut(PER_TASK * width)
+        .enumerate()
+        .for_each(|(task, chunk)| {
+            for (j, r) in chunk.chunks_exact_mut(width).enumerate() {
+                let k = task * PER_TASK + j;
+                r[0] = first_id + k as u32;
+                fill(k, &mut r[2..]);
+            }
+        });
+    out
 }
 
-impl Builder {
-    fn node(&mut self, p: Point) -> Result<NodeIdx, String> {
-        self.next_node += 1;
-        self.model
-            .add_node(NodeId(self.next_node), p)
-            .map_err(|e| e.to_string())
-    }
-
-    fn element(
-        &mut self,
-        kind: GeometryKind,
-        name: &str,
-        nodes: &[NodeIdx],
-    ) -> Result<ElementIdx, String> {
-        self.next_element += 1;
-        let ids: Vec<NodeId> = nodes.iter().map(|&n| self.id(n)).collect();
-        self.model
-            .add_element(ElementId(self.next_element), kind, name, &ids, self.props)
-            .map_err(|e| e.to_string())
-    }
-
-    fn condition(
-        &mut self,
-        kind: GeometryKind,
-        name: &str,
-        nodes: &[NodeIdx],
-    ) -> Result<ConditionIdx, String> {
-        self.next_condition += 1;
-        let ids: Vec<NodeId> = nodes.iter().map(|&n| self.id(n)).collect();
-        self.model
-            .add_condition(
-                ConditionId(self.next_condition),
-                kind,
-                name,
-                &ids,
-                self.props,
-            )
-            .map_err(|e| e.to_string())
-    }
-
-    fn id(&self, n: NodeIdx) -> NodeId {
-        NodeId(self.model.nodes().ids()[n.index()])
-    }
-
-    fn part(
-        &mut self,
-        path: &str,
-        nodes: &[NodeIdx],
-        elements: &[ElementIdx],
-        conditions: &[ConditionIdx],
-    ) -> Result<(), String> {
-        let part = self.model.create_part(path).map_err(|e| e.to_string())?;
-        let mut nodes = nodes.to_vec();
-        nodes.sort_unstable();
-        nodes.dedup();
-        self.model.add_nodes_to_part(part, &nodes);
-        self.model.add_elements_to_part(part, elements);
-        self.model.add_conditions_to_part(part, conditions);
-        Ok(())
-    }
+/// `a..b` as dense indices of the kind `T`.
+fn indices<T>(range: std::ops::Range<usize>, make: impl Fn(u32) -> T) -> Vec<T> {
+    range.map(|i| make(i as u32)).collect()
 }
 
 /// Builds the scene with about `faces` contact faces (at least 2 × 2 cells per side).
+///
+/// The nodes' positions and the entities' records are computed in parallel on rayon's pool
+/// and added in bulk ([`ModelPart::add_nodes`], [`ModelPart::add_entity_records`]); the
+/// model is the same for any thread count.
 pub fn demo_scene(faces: usize) -> Result<DemoScene, String> {
     if faces > MAX_FACES {
         return Err(format!(
@@ -138,141 +100,153 @@ pub fn demo_scene(faces: usize) -> Result<DemoScene, String> {
     const A: Real = 0.5;
     let h = radius * 2.0 * A / m as Real;
     let penetration = 0.1 * h;
-    let mut b = Builder {
-        model: ModelPart::new("Structure"),
-        next_node: 0,
-        next_element: 0,
-        next_condition: 0,
-        props: PropertiesId(0),
-    };
-    b.model.ensure_properties(b.props);
-    b.model.process_info_mut().set_number("DOMAIN_SIZE", 3.0);
+    let mut model = ModelPart::new("Structure");
+    model.ensure_properties(PropertiesId(0));
+    model.process_info_mut().set_number("DOMAIN_SIZE", 3.0);
+    let error = |(_, e): (usize, csm_model::Error)| e.to_string();
 
+    // Node ids are 1-based and consecutive, node index + 1: the plate's (n + 1)² × (nz + 1)
+    // nodes, layer by layer from the bottom, then the cap's outer and its inner nodes.
     // The plate, centred under the sphere, top at z = 0.
     let half = n as Real * h / 2.0;
-    let mut plate_nodes = Vec::with_capacity((n + 1) * (n + 1) * (nz + 1));
-    for k in 0..=nz {
-        for j in 0..=n {
-            for i in 0..=n {
-                let p = Point::new(
-                    -half + i as Real * h,
-                    -half + j as Real * h,
-                    (k as Real - nz as Real) * h,
-                );
-                plate_nodes.push(b.node(p)?);
-            }
-        }
-    }
-    let p = |i: usize, j: usize, k: usize| plate_nodes[(k * (n + 1) + j) * (n + 1) + i];
-    let mut plate_elements = Vec::with_capacity(n * n * nz);
-    for k in 0..nz {
-        for j in 0..n {
-            for i in 0..n {
-                // Bottom counter-clockwise seen from above, then the top: positive volume.
-                let nodes = [
-                    p(i, j, k),
-                    p(i + 1, j, k),
-                    p(i + 1, j + 1, k),
-                    p(i, j + 1, k),
-                    p(i, j, k + 1),
-                    p(i + 1, j, k + 1),
-                    p(i + 1, j + 1, k + 1),
-                    p(i, j + 1, k + 1),
-                ];
-                plate_elements.push(b.element(
-                    GeometryKind::Hexahedra3D8,
-                    "SmallDisplacementElement3D8N",
-                    &nodes,
-                )?);
-            }
-        }
-    }
-    let mut master = Vec::with_capacity(n * n);
-    let mut master_nodes = Vec::with_capacity((n + 1) * (n + 1));
-    for j in 0..n {
-        for i in 0..n {
-            // Counter-clockwise seen from above: the normal points up, out of the plate.
-            let nodes = [
-                p(i, j, nz),
-                p(i + 1, j, nz),
-                p(i + 1, j + 1, nz),
-                p(i, j + 1, nz),
-            ];
-            master.push(b.condition(
-                GeometryKind::Quadrilateral3D4,
-                "SurfaceCondition3D4N",
-                &nodes,
-            )?);
-            master_nodes.extend(nodes);
-        }
-    }
-
+    let row = n + 1;
+    let n_plate = row * row * (nz + 1);
+    let mut positions: Vec<[Real; 3]> = (0..n_plate)
+        .into_par_iter()
+        .map(|k| {
+            let (i, j, l) = (k % row, (k / row) % row, k / (row * row));
+            [
+                -half + i as Real * h,
+                -half + j as Real * h,
+                (l as Real - nz as Real) * h,
+            ]
+        })
+        .collect();
     // The sphere's cap: outer nodes on the sphere, inner nodes one element size inside.
     let centre = Point::new(0.0, 0.0, radius - penetration);
-    let mut outer = Vec::with_capacity((m + 1) * (m + 1));
-    let mut inner = Vec::with_capacity((m + 1) * (m + 1));
-    for j in 0..=m {
-        for i in 0..=m {
-            let u = -A + 2.0 * A * i as Real / m as Real;
-            let v = -A + 2.0 * A * j as Real / m as Real;
-            let d = Vector::new(u, v, -1.0).normalize();
-            outer.push(centre + radius * d);
-            inner.push(centre + (radius - h) * d);
+    let cap_row = m + 1;
+    let n_outer = cap_row * cap_row;
+    positions.par_extend((0..2 * n_outer).into_par_iter().map(|k| -> [Real; 3] {
+        let (i, j) = ((k % n_outer) % cap_row, (k % n_outer) / cap_row);
+        let u = -A + 2.0 * A * i as Real / m as Real;
+        let v = -A + 2.0 * A * j as Real / m as Real;
+        let d = Vector::new(u, v, -1.0).normalize();
+        let r = if k < n_outer { radius } else { radius - h };
+        (centre + r * d).coords.into()
+    }));
+    let ids: Vec<u32> = (1..=positions.len() as u32).collect();
+    model.add_nodes(&ids, &positions).map_err(error)?;
+    drop((ids, positions));
+    let p = |i: usize, j: usize, k: usize| ((k * row + j) * row + i + 1) as u32;
+    let o = |i: usize, j: usize| (n_plate + j * cap_row + i + 1) as u32;
+    let q = |i: usize, j: usize| (n_plate + n_outer + j * cap_row + i + 1) as u32;
+
+    // The plate's hexahedra, layer by layer; the cap's prisms, cell by cell, two each.
+    let n_hexahedra = n * n * nz;
+    let hexahedra = records(n_hexahedra, 8, 1, |e, r| {
+        let (i, j, k) = (e % n, (e / n) % n, e / (n * n));
+        // Bottom counter-clockwise seen from above, then the top: positive volume.
+        r.copy_from_slice(&[
+            p(i, j, k),
+            p(i + 1, j, k),
+            p(i + 1, j + 1, k),
+            p(i, j + 1, k),
+            p(i, j, k + 1),
+            p(i + 1, j, k + 1),
+            p(i + 1, j + 1, k + 1),
+            p(i, j + 1, k + 1),
+        ]);
+    });
+    let element = (GeometryKind::Hexahedra3D8, "SmallDisplacementElement3D8N");
+    model
+        .add_entity_records(false, element.0, element.1, &hexahedra)
+        .map_err(error)?;
+    drop(hexahedra);
+    // Two triangles per cell, counter-clockwise seen from above (normal up, into the
+    // sphere): the prisms' outer triangles, with the inner triangle above; the conditions
+    // take them reversed, normal down and out of the sphere.
+    let triangle = |t: usize| -> [(usize, usize); 3] {
+        let (i, j) = ((t / 2) % m, t / 2 / m);
+        if t.is_multiple_of(2) {
+            [(i, j), (i + 1, j), (i + 1, j + 1)]
+        } else {
+            [(i, j), (i + 1, j + 1), (i, j + 1)]
         }
+    };
+    let n_triangles = 2 * m * m;
+    let prisms = records(n_triangles, 6, 1 + n_hexahedra as u32, |t, r| {
+        let [a, c, d] = triangle(t);
+        r.copy_from_slice(&[
+            o(a.0, a.1),
+            o(c.0, c.1),
+            o(d.0, d.1),
+            q(a.0, a.1),
+            q(c.0, c.1),
+            q(d.0, d.1),
+        ]);
+    });
+    let element = (GeometryKind::Prism3D6, "SmallDisplacementElement3D6N");
+    model
+        .add_entity_records(false, element.0, element.1, &prisms)
+        .map_err(error)?;
+    drop(prisms);
+
+    // The plate's top faces, counter-clockwise seen from above (the normal points up, out of
+    // the plate); the cap's outer triangles.
+    let quadrilaterals = records(n * n, 4, 1, |f, r| {
+        let (i, j) = (f % n, f / n);
+        r.copy_from_slice(&[
+            p(i, j, nz),
+            p(i + 1, j, nz),
+            p(i + 1, j + 1, nz),
+            p(i, j + 1, nz),
+        ]);
+    });
+    let condition = (GeometryKind::Quadrilateral3D4, "SurfaceCondition3D4N");
+    model
+        .add_entity_records(true, condition.0, condition.1, &quadrilaterals)
+        .map_err(error)?;
+    drop(quadrilaterals);
+    let triangles = records(n_triangles, 3, 1 + (n * n) as u32, |t, r| {
+        let [a, c, d] = triangle(t);
+        r.copy_from_slice(&[o(a.0, a.1), o(d.0, d.1), o(c.0, c.1)]);
+    });
+    let condition = (GeometryKind::Triangle3D3, "SurfaceCondition3D3N");
+    model
+        .add_entity_records(true, condition.0, condition.1, &triangles)
+        .map_err(error)?;
+    drop(triangles);
+
+    // The parts: every list is a range of dense indices (every plate node is a hexahedron's,
+    // every top node a top face's, every cap node a prism's, every outer node a triangle's).
+    let n_cap = 2 * n_outer;
+    let top = row * row * nz..n_plate;
+    let parts = [
+        ("plate", 0..n_plate, 0..n_hexahedra, 0..0),
+        (
+            "sphere",
+            n_plate..n_plate + n_cap,
+            n_hexahedra..n_hexahedra + n_triangles,
+            0..0,
+        ),
+        ("master", top, 0..0, 0..n * n),
+        (
+            "slave",
+            n_plate..n_plate + n_outer,
+            0..0,
+            n * n..n * n + n_triangles,
+        ),
+    ];
+    for (path, nodes, elements, conditions) in parts {
+        let part = model.create_part(path).map_err(|e| e.to_string())?;
+        model.add_nodes_to_part(part, &indices(nodes, NodeIdx));
+        model.add_elements_to_part(part, &indices(elements, ElementIdx));
+        model.add_conditions_to_part(part, &indices(conditions, ConditionIdx));
     }
-    let mut sphere_nodes = Vec::with_capacity(2 * outer.len());
-    for &x in &outer {
-        sphere_nodes.push(b.node(x)?);
-    }
-    for &x in &inner {
-        sphere_nodes.push(b.node(x)?);
-    }
-    let n_outer = outer.len();
-    let o = |i: usize, j: usize| sphere_nodes[j * (m + 1) + i];
-    let q = |i: usize, j: usize| sphere_nodes[n_outer + j * (m + 1) + i];
-    let mut sphere_elements = Vec::with_capacity(2 * m * m);
-    let mut slave = Vec::with_capacity(2 * m * m);
-    let mut slave_nodes = Vec::with_capacity(n_outer);
-    for j in 0..m {
-        for i in 0..m {
-            // Two triangles counter-clockwise seen from above (normal up, into the sphere):
-            // the prisms' outer triangles, with the inner triangle above; the conditions take
-            // them reversed, normal down and out of the sphere.
-            for [a, c, d] in [
-                [(i, j), (i + 1, j), (i + 1, j + 1)],
-                [(i, j), (i + 1, j + 1), (i, j + 1)],
-            ] {
-                let prism = [
-                    o(a.0, a.1),
-                    o(c.0, c.1),
-                    o(d.0, d.1),
-                    q(a.0, a.1),
-                    q(c.0, c.1),
-                    q(d.0, d.1),
-                ];
-                sphere_elements.push(b.element(
-                    GeometryKind::Prism3D6,
-                    "SmallDisplacementElement3D6N",
-                    &prism,
-                )?);
-                let face = [o(a.0, a.1), o(d.0, d.1), o(c.0, c.1)];
-                slave.push(b.condition(
-                    GeometryKind::Triangle3D3,
-                    "SurfaceCondition3D3N",
-                    &face,
-                )?);
-                slave_nodes.extend(face);
-            }
-        }
-    }
-    b.part("plate", &plate_nodes, &plate_elements, &[])?;
-    b.part("sphere", &sphere_nodes, &sphere_elements, &[])?;
-    b.part("master", &master_nodes, &[], &master)?;
-    b.part("slave", &slave_nodes, &[], &slave)?;
     Ok(DemoScene {
-        model: b.model,
-        n_master_faces: master.len(),
-        n_slave_faces: slave.len(),
+        model,
+        n_master_faces: n * n,
+        n_slave_faces: n_triangles,
         radius,
         element_size: h,
         penetration,

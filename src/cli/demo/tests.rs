@@ -107,3 +107,58 @@ fn the_default_search_finds_pairs_under_the_sphere() {
     let text = super::demo_summary(&scene, &result, &crate::cli::Timings::default());
     assert!(text.contains("pairs"), "{text}");
 }
+
+/// The whole model of the smallest scene as text: every node (id, coordinates), element and
+/// condition (id, kind, name, properties, node ids) and part (its nodes', elements' and
+/// conditions' ids), in index order.
+fn model_text(m: &ModelPart) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let node_ids = m.nodes().ids();
+    let ids = |nodes: &[csm_model::NodeIdx]| -> Vec<u32> {
+        nodes.iter().map(|n| node_ids[n.index()]).collect()
+    };
+    for (i, (id, x)) in node_ids.iter().zip(m.nodes().coordinates()).enumerate() {
+        let x0 = m.nodes().initial_coordinates()[i];
+        assert_eq!(*x, x0, "node {id}: current and initial coordinates differ");
+        writeln!(s, "node {id} {:.9} {:.9} {:.9}", x.x, x.y, x.z).unwrap();
+    }
+    for (label, entities) in [("element", m.elements()), ("condition", m.conditions())] {
+        for i in 0..entities.len() {
+            writeln!(
+                s,
+                "{label} {} {:?} {} p{} {:?}",
+                entities.ids()[i],
+                entities.kind(i),
+                entities.name(i),
+                entities.properties(i).0,
+                ids(entities.nodes(i))
+            )
+            .unwrap();
+        }
+    }
+    for path in m.part_paths() {
+        let part = m.part(m.get_part(path).unwrap());
+        let elements: Vec<u32> = (part.elements().iter())
+            .map(|e| m.elements().ids()[e.index()])
+            .collect();
+        let conditions: Vec<u32> = (part.conditions().iter())
+            .map(|c| m.conditions().ids()[c.index()])
+            .collect();
+        writeln!(
+            s,
+            "part {path}: nodes {:?} elements {elements:?} conditions {conditions:?}",
+            ids(part.nodes())
+        )
+        .unwrap();
+    }
+    s
+}
+
+/// The smallest scene (2 × 2 plate faces, 2 × 2 cap cells), entity by entity: the builder's
+/// ids, order, connectivity and parts.
+#[test]
+fn the_smallest_scene_entity_by_entity() {
+    let scene = demo_scene(8).unwrap();
+    insta::assert_snapshot!(model_text(&scene.model));
+}
