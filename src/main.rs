@@ -350,7 +350,14 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
                 r.phase("truth");
             }
             let progress = Progress::start("ground truth", csm::cli::progress_wanted(quiet));
-            let truth = csm::cli::demo_truth(&pristine, &setup, &result);
+            // The truth searches the pristine scene itself, or a copy where the report needs
+            // it after.
+            let (scene_before, pristine) = if report {
+                (pristine.clone(), Some(pristine))
+            } else {
+                (pristine, None)
+            };
+            let truth = csm::cli::demo_truth(scene_before, &setup, &result);
             progress.finish();
             let truth = truth?;
             if let Some(r) = &recorder {
@@ -382,7 +389,7 @@ fn run(cli: Cli, recorder: Option<Recorder>) -> Result<(), String> {
                     vtu_path.display()
                 );
             }
-            if report {
+            if let Some(pristine) = pristine {
                 let options = csm::cli::ReportOptions::default();
                 measure_report(&pristine, &setup, "demo scene", &options, &output, quiet)?;
             }

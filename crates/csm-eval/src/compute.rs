@@ -101,6 +101,17 @@ impl GroundTruth {
         key: u32,
         options: &TruthOptions,
     ) -> Result<GroundTruth, Error> {
+        GroundTruth::compute_owned(model.clone(), setup, key, options)
+    }
+
+    /// [`GroundTruth::compute_with`] on `model` itself, which it searches and drops: no copy
+    /// of the model, for a caller that has one to give (as read, before any search).
+    pub fn compute_owned(
+        mut model: ModelPart,
+        setup: &SearchSetup,
+        key: u32,
+        options: &TruthOptions,
+    ) -> Result<GroundTruth, Error> {
         let mut setup = setup.clone();
         setup.compatibility = Compatibility::Robust;
         setup.steps.clear();
@@ -114,7 +125,6 @@ impl GroundTruth {
         pair.search.check_gap = CheckGap::MappingCheck;
         pair.search.dynamic_search = false;
         let simple_search = pair.search.simple_search;
-        let mut model = model.clone();
         let mut search = ContactSearch::initialize(&mut model, &setup)?;
         let mut evaluated = Vec::new();
         let mut distance_threshold = 0.0;
