@@ -154,14 +154,40 @@ impl SlaveEntries {
     }
 
     /// The map of `SearchResult.pairs`: every slave, with its masters or none.
+    ///
+    /// The map's sorted entries are written in parallel, in tasks of ids each taking its
+    /// masters, into one list that the map's bulk build then reads in place: only the
+    /// tree's nodes are built on one thread (the list's fresh pages are touched by every
+    /// worker, not by that one).
     pub(super) fn into_map(self) -> BTreeMap<u32, Vec<u32>> {
-        let mut with = self.masters.into_iter().peekable();
-        (self.ids.into_iter())
-            .map(|id| match with.next_if(|(s, _)| *s == id) {
-                Some(entry) => entry,
-                None => (id, Vec::new()),
-            })
-            .collect()
+        /// Slaves per parallel task.
+        const PER_TASK: usize = 4096;
+        let SlaveEntries { ids, mut masters } = self;
+        // Each task's ids and the masters among them (both ascend).
+        let mut tasks = Vec::with_capacity(ids.len().div_ceil(PER_TASK));
+        let mut rest = masters.as_mut_slice();
+        for chunk in ids.chunks(PER_TASK) {
+            let last = chunk[chunk.len() - 1];
+            let k = rest.partition_point(|(s, _)| *s <= last);
+            let (mine, tail) = std::mem::take(&mut rest).split_at_mut(k);
+            tasks.push((chunk, mine));
+            rest = tail;
+        }
+        let mut entries: Vec<(u32, Vec<u32>)> = Vec::new();
+        entries.par_extend((0..ids.len()).into_par_iter().map(|_| (0, Vec::new())));
+        (entries.par_chunks_mut(PER_TASK))
+            .zip(tasks)
+            .for_each(|(out, (chunk, mine))| {
+                let mut with = mine.iter_mut().peekable();
+                for (slot, &id) in out.iter_mut().zip(chunk) {
+                    slot.0 = id;
+                    if let Some((_, m)) = with.next_if(|(s, _)| *s == id) {
+                        slot.1 = std::mem::take(m);
+                    }
+                }
+            });
+        // (A list's own iterator collects in place: no second list.)
+        entries.into_iter().collect()
     }
 }
 
@@ -186,4 +212,49 @@ pub(crate) fn by_slave(entries: &[(u32, u32)]) -> std::collections::BTreeMap<u32
         }
     }
     grouped.into_iter().collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The map, built entry by entry: the oracle.
+    fn one_by_one(ids: &[u32], masters: &[(u32, Vec<u32>)]) -> BTreeMap<u32, Vec<u32>> {
+        let mut map: BTreeMap<u32, Vec<u32>> = ids.iter().map(|&id| (id, Vec::new())).collect();
+        for (s, m) in masters {
+            map.insert(*s, m.clone());
+        }
+        map
+    }
+
+    #[test]
+    fn the_slaves_map_holds_every_slave_with_its_masters_on_any_pool() {
+        // Sparse ids over several tasks; masters on every seventh slave, a run at a task's
+        // end and the last slave.
+        let ids: Vec<u32> = (0..20_000).map(|k| 3 * k + 1).collect();
+        let mut masters: Vec<(u32, Vec<u32>)> = (ids.iter().step_by(7))
+            .map(|&s| (s, vec![s + 5, s + 9]))
+            .collect();
+        masters.extend((4090..4100).map(|k| (ids[k], vec![1])));
+        masters.push((ids[ids.len() - 1], vec![2, 3]));
+        masters.sort_unstable_by_key(|(s, _)| *s);
+        masters.dedup_by_key(|(s, _)| *s);
+        for threads in [1, 2, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let entries = SlaveEntries {
+                ids: ids.clone(),
+                masters: masters.clone(),
+            };
+            let map = pool.install(|| entries.into_map());
+            assert_eq!(map, one_by_one(&ids, &masters), "{threads} threads");
+        }
+        let none = SlaveEntries {
+            ids: Vec::new(),
+            masters: Vec::new(),
+        };
+        assert!(none.into_map().is_empty());
+    }
 }
