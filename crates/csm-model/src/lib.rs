@@ -30,6 +30,7 @@ mod model_part;
 mod nodal_data;
 mod nodal_h;
 mod normals;
+mod ordered_output;
 mod parts;
 mod process_info;
 mod properties;
@@ -54,6 +55,7 @@ pub use normals::{
     compute_unit_normals, compute_unit_normals_from_kept, compute_unit_normals_reusing,
     face_unit_normals,
 };
+pub use ordered_output::write_in_order;
 pub use parts::SubModelPart;
 pub use process_info::ProcessInfo;
 pub use properties::{Properties, PropertyValue};

@@ -205,43 +205,6 @@ fn write_ascii<T: Value>(
     out.push_str("        </DataArray>\n");
 }
 
-/// The byte count (`UInt64`) and the little-endian bytes of `len` values: those of `values`,
-/// then padding, a block at a time.
-fn write_raw<T: Value>(
-    out: &mut impl Write,
-    values: impl Iterator<Item = T>,
-    len: usize,
-) -> std::io::Result<()> {
-    out.write_all(&((len * T::SIZE) as u64).to_le_bytes())?;
-    let mut buffer = vec![0u8; (1 << 14) * T::SIZE];
-    let mut all = values.chain(std::iter::repeat(T::PAD)).take(len);
-    loop {
-        let mut n = 0;
-        for (slot, v) in buffer.chunks_exact_mut(T::SIZE).zip(all.by_ref()) {
-            v.bytes(slot);
-            n += 1;
-        }
-        if n == 0 {
-            return Ok(());
-        }
-        out.write_all(&buffer[..n * T::SIZE])?;
-    }
-}
-
-/// [`write_raw`] of integers as `Int32` (`narrow`: every value fits) or `Int64`.
-fn write_int(
-    out: &mut impl Write,
-    values: impl Iterator<Item = i64>,
-    len: usize,
-    narrow: bool,
-) -> std::io::Result<()> {
-    if narrow {
-        write_raw(out, values.map(|v| v as i32), len)
-    } else {
-        write_raw(out, values, len)
-    }
-}
-
 impl<'a> VtuWriter<'a> {
     /// A writer of `model`'s nodes, elements and conditions.
     pub fn new(model: &'a ModelPart) -> VtuWriter<'a> {
@@ -469,7 +432,8 @@ impl<'a> VtuWriter<'a> {
     /// bytes in one appended block (`<AppendedData encoding="raw">`, each array preceded by
     /// its byte count as a `UInt64`), what ParaView reads fastest. The arrays are those of
     /// the ASCII form, with the same types, streamed from the model: nothing of the size of
-    /// the mesh is built. Errors as [`write_file`](Self::write_file); `file_name` names the
+    /// the mesh is built. The values are encoded by rayon's pool in tasks of a few thousand
+    /// while this thread writes the ones before; the bytes are the same on any pool. Errors as [`write_file`](Self::write_file); `file_name` names the
     /// file in them.
     pub fn write_binary(&self, file_name: &str, out: &mut impl Write) -> Result<(), Error> {
         self.check(file_name)?;
@@ -561,57 +525,18 @@ impl<'a> VtuWriter<'a> {
         out.write_all(xml.as_bytes()).map_err(io)?;
 
         // Then the values, in the same order.
-        let ids = nodes.ids().iter().map(|&i| i64::from(i));
-        write_int(out, ids, n_points, node_ids_narrow).map_err(io)?;
-        for (_, a) in &self.point_data {
-            let len = n_points * a.components();
-            with_values!(a, values => write_raw(out, values.iter().copied(), len)).map_err(io)?;
-        }
-        let ids = entities
-            .iter()
-            .flat_map(|e| e.ids().iter().map(|&i| i64::from(i)))
-            .chain((0..self.lines.len()).map(|i| i as i64));
-        write_int(out, ids, n_cells, entity_ids_narrow).map_err(io)?;
-        let kinds = entities
-            .iter()
-            .enumerate()
-            .flat_map(|(k, e)| std::iter::repeat_n(k as i8, e.len()))
-            .chain(std::iter::repeat_n(2, self.lines.len()));
-        write_raw(out, kinds, n_cells).map_err(io)?;
-        for (_, a) in &self.cell_data {
-            let len = n_cells * a.components();
-            with_values!(a, values => write_raw(out, values.iter().copied(), len)).map_err(io)?;
-        }
-        let xyz = nodes
-            .coordinates()
-            .iter()
-            .chain(&self.extra_points)
-            .flat_map(|p| [p.x, p.y, p.z]);
-        write_raw(out, xyz, 3 * n_points).map_err(io)?;
-        let cells = || {
-            entities
-                .iter()
-                .flat_map(|e| (0..e.len()).map(move |i| (e.nodes(i), e.kind(i))))
+        let narrow = appended::Narrow {
+            node_ids: node_ids_narrow,
+            entity_ids: entity_ids_narrow,
+            indices: indices_narrow,
         };
-        let conn = cells()
-            .flat_map(|(nodes, kind)| {
-                let p = vtk_permutation(kind).filter(|p| p.len() == nodes.len());
-                (0..nodes.len()).map(move |k| nodes[p.map_or(k, |p| p[k])].index() as i64)
-            })
-            .chain(self.lines.iter().flatten().map(|&i| i as i64));
-        write_int(out, conn, n_conn, indices_narrow).map_err(io)?;
-        let ends = cells()
-            .map(|(nodes, _)| nodes.len())
-            .chain(std::iter::repeat_n(2, self.lines.len()))
-            .scan(0i64, |end, n| {
-                *end += n as i64;
-                Some(*end)
-            });
-        write_int(out, ends, n_cells, indices_narrow).map_err(io)?;
-        let types = cells()
-            .map(|(_, kind)| vtk_cell_type(kind))
-            .chain(std::iter::repeat_n(3, self.lines.len()));
-        write_raw(out, types, n_cells)
+        let arrays = self.appended_arrays(&narrow, n_conn);
+        debug_assert_eq!(
+            arrays.iter().map(|a| 8 + a.bytes).sum::<usize>(),
+            offset,
+            "the XML's offsets"
+        );
+        appended::write_arrays(out, &arrays)
             .and_then(|()| out.write_all(b"\n  </AppendedData>\n</VTKFile>\n"))
             .map_err(io)
     }
@@ -729,6 +654,8 @@ fn write_cells(out: &mut String, conn: &DataArray, offsets: &DataArray) {
     });
     out.push_str("        </DataArray>\n");
 }
+
+mod appended;
 
 #[cfg(test)]
 mod tests;

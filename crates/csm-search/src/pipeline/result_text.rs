@@ -11,7 +11,6 @@
 use std::collections::BTreeMap;
 use std::io::Write;
 
-use rayon::prelude::*;
 use serde::Serialize;
 
 use super::result::{NodeResult, SearchResult, StepResult};
@@ -71,49 +70,19 @@ fn write_map<V: Sync>(
     };
     w.write_all(b"{")?;
     let tasks = key_ranges(first, last, map.len().div_ceil(ENTRIES_PER_TASK));
-    let format_batch = |batch: &[(u32, u32)], first_task: usize| -> Vec<Vec<u8>> {
-        batch
-            .par_iter()
-            .with_max_len(1)
-            .enumerate()
-            .map(|(t, &(from, through))| {
-                let mut out = Vec::new();
-                for (k, (&key, value)) in map.range(from..=through).enumerate() {
-                    // The first task starts at the first key: every other entry follows one.
-                    if first_task + t > 0 || k > 0 {
-                        out.push(b',');
-                    }
-                    out.push(b'\n');
-                    indent(&mut out, level + 1);
-                    format(&mut out, key, value);
-                }
-                out
-            })
-            .collect()
-    };
-    let write_texts = |w: &mut dyn Write, texts: &[Vec<u8>]| -> std::io::Result<()> {
-        texts.iter().try_for_each(|t| w.write_all(t))
-    };
-    let threads = rayon::current_num_threads();
-    let per_batch = TASKS_PER_BATCH.max(4 * threads);
-    let mut pending: Vec<Vec<u8>> = Vec::new();
-    for (b, batch) in tasks.chunks(per_batch).enumerate() {
-        let first_task = b * per_batch;
-        if threads > 1 {
-            let mut texts = Vec::new();
-            let mut written = Ok(());
-            rayon::in_place_scope(|scope| {
-                scope.spawn(|_| texts = format_batch(batch, first_task));
-                written = write_texts(w, &pending);
-            });
-            written?;
-            pending = texts;
-        } else {
-            write_texts(w, &pending)?;
-            pending = format_batch(batch, first_task);
+    csm_model::write_in_order(w, &tasks, TASKS_PER_BATCH, |t, &(from, through)| {
+        let mut out = Vec::new();
+        for (k, (&key, value)) in map.range(from..=through).enumerate() {
+            // The first task starts at the first key: every other entry follows one.
+            if t > 0 || k > 0 {
+                out.push(b',');
+            }
+            out.push(b'\n');
+            indent(&mut out, level + 1);
+            format(&mut out, key, value);
         }
-    }
-    write_texts(w, &pending)?;
+        out
+    })?;
     close(w, level, b'}')
 }
 

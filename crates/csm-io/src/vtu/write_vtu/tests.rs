@@ -267,3 +267,93 @@ fn binary_form_holds_the_ascii_forms_arrays() {
     w.write_binary("t.vtu", &mut again).unwrap();
     assert_eq!(again, bytes);
 }
+
+/// A row of `n` cells: hexahedra, and prisms (a permuted kind) on every third, with a
+/// quadrilateral condition on each cell's top.
+fn row_of_cells(n: usize) -> ModelPart {
+    let mut mp = ModelPart::new("Structure");
+    let props = PropertiesId(0);
+    mp.ensure_properties(props);
+    let id = |i: usize, corner: usize| NodeId((4 * i + corner + 1) as u32);
+    for i in 0..=n {
+        for (c, (y, z)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+            .into_iter()
+            .enumerate()
+        {
+            mp.add_node(id(i, c), Point::new(i as f64, y, z + 0.1 * i as f64))
+                .unwrap();
+        }
+    }
+    for i in 0..n {
+        let (a, b) = (i, i + 1);
+        if i % 3 == 0 {
+            let nodes = [id(a, 0), id(a, 1), id(a, 2), id(b, 0), id(b, 1), id(b, 2)];
+            let eid = ElementId(100 + i as u32);
+            mp.add_element(eid, GeometryKind::Prism3D6, "", &nodes, props)
+                .unwrap();
+        } else {
+            let nodes = [
+                id(a, 0),
+                id(b, 0),
+                id(b, 1),
+                id(a, 1),
+                id(a, 3),
+                id(b, 3),
+                id(b, 2),
+                id(a, 2),
+            ];
+            let eid = ElementId(100 + i as u32);
+            mp.add_element(eid, GeometryKind::Hexahedra3D8, "", &nodes, props)
+                .unwrap();
+        }
+        let top = [id(a, 3), id(b, 3), id(b, 2), id(a, 2)];
+        let cid = ConditionId(5000 + i as u32);
+        mp.add_condition(cid, GeometryKind::Quadrilateral3D4, "", &top, props)
+            .unwrap();
+    }
+    mp
+}
+
+/// Many tasks (seven units each in the tests) and batches of them, on pools of 1–3
+/// threads: the binary form's arrays are the ASCII form's, and its bytes the same on any
+/// pool.
+#[test]
+fn binary_form_is_the_same_on_any_pool() {
+    let mp = row_of_cells(61);
+    let mut w = VtuWriter::new(&mp);
+    w.extra_points(&[Point::new(0.5, 0.5, 0.5), Point::new(2.0, 0.0, f64::NAN)]);
+    w.point_line_cells(&[[0, 248], [249, 7], [3, 4]]);
+    let n_cells = w.n_cells();
+    w.point_data(
+        "per_node",
+        DataArray::F64 {
+            components: 3,
+            values: (0..3 * mp.nodes().len()).map(|k| k as f64 / 7.0).collect(),
+        },
+    );
+    w.cell_data(
+        "c",
+        DataArray::I32 {
+            components: 1,
+            values: (0..n_cells as i32).map(|k| k * 3 - 50).collect(),
+        },
+    );
+    let xml = w.to_xml("t.vtu").unwrap();
+    let mut first: Option<Vec<u8>> = None;
+    for threads in [1, 2, 3] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut bytes = Vec::new();
+        pool.install(|| w.write_binary("t.vtu", &mut bytes))
+            .unwrap();
+        for (name, _, values) in &appended_arrays(&bytes) {
+            assert_eq!(values, &array(&xml, name), "{name}, {threads} threads");
+        }
+        match &first {
+            Some(f) => assert_eq!(&bytes, f, "{threads} threads"),
+            None => first = Some(bytes),
+        }
+    }
+}
