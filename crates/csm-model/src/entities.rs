@@ -7,6 +7,7 @@ use csm_geometry::GeometryKind;
 use csm_geometry::math::Point;
 use rayon::prelude::*;
 
+use crate::write_at::par_clone;
 use crate::{Flags, NodeIdx, PropertiesId};
 
 /// A value no other change of any model's coordinates or connectivity in this process has
@@ -18,7 +19,7 @@ pub(crate) fn fresh_stamp() -> u64 {
 
 /// The nodes of a model part, structure-of-arrays: index `i` of every column is node
 /// `NodeIdx(i)`.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Default)]
 pub struct Nodes {
     pub(crate) ids: Vec<u32>,
     pub(crate) initial: Vec<Point>,
@@ -89,7 +90,7 @@ impl Nodes {
 
 /// Elements or conditions of a model part, structure-of-arrays: geometry kind, connectivity
 /// (dense node indices, in the geometry's node order), properties and flags per entity.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Default)]
 pub struct Entities {
     pub(crate) ids: Vec<u32>,
     pub(crate) kinds: Vec<GeometryKind>,
@@ -324,7 +325,7 @@ impl Entities {
 /// External id → dense index. Ids of a mesh are mostly contiguous from 1, so they are kept in
 /// a dense table (id → index + 1, 0 for none) while it stays within twice the entry count;
 /// ids beyond it go to a hash map.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Default)]
 pub(crate) struct IdIndex {
     dense: Vec<u32>,
     sparse: HashMap<u32, u32>,
@@ -359,6 +360,70 @@ impl IdIndex {
             self.dense[i] = index + 1;
         } else {
             self.sparse.insert(id, index);
+        }
+    }
+}
+
+// The columns of a big model are copied in parallel ([`par_clone`]); the copy shares the
+// stamps (its geometry is the same until one of them changes).
+
+impl Clone for Nodes {
+    fn clone(&self) -> Nodes {
+        let Nodes {
+            ids,
+            initial,
+            coordinates,
+            flags,
+            by_id,
+            stamp,
+        } = self;
+        Nodes {
+            ids: par_clone(ids),
+            initial: par_clone(initial),
+            coordinates: par_clone(coordinates),
+            flags: par_clone(flags),
+            by_id: by_id.clone(),
+            stamp: *stamp,
+        }
+    }
+}
+
+impl Clone for Entities {
+    fn clone(&self) -> Entities {
+        let Entities {
+            ids,
+            kinds,
+            names,
+            name_table,
+            offsets,
+            connectivity,
+            properties,
+            flags,
+            by_id,
+            stamp,
+        } = self;
+        Entities {
+            ids: par_clone(ids),
+            kinds: par_clone(kinds),
+            names: par_clone(names),
+            name_table: name_table.clone(),
+            offsets: par_clone(offsets),
+            connectivity: par_clone(connectivity),
+            properties: par_clone(properties),
+            flags: par_clone(flags),
+            by_id: by_id.clone(),
+            stamp: *stamp,
+        }
+    }
+}
+
+impl Clone for IdIndex {
+    fn clone(&self) -> IdIndex {
+        let IdIndex { dense, sparse, len } = self;
+        IdIndex {
+            dense: par_clone(dense),
+            sparse: sparse.clone(),
+            len: *len,
         }
     }
 }

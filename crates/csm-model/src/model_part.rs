@@ -8,6 +8,7 @@ use csm_geometry::math::{Point, Real, Vector};
 
 use crate::error::{EntityKind, Error, ErrorKind};
 use crate::parts::{SubModelPart, merge_sorted};
+use crate::write_at::par_clone;
 use crate::{
     ConditionId, ConditionIdx, ElementId, ElementIdx, Entities, IndexMap, NodalData, NodeId,
     NodeIdx, Nodes, PartIdx, ProcessInfo, Properties, PropertiesId, ScalarVar, VectorVar,
@@ -15,7 +16,7 @@ use crate::{
 
 /// The root model part (Kratos `ModelPart`, e.g. `Structure`): dense storage of every
 /// entity, with the sub model parts as index sets into it.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Default)]
 pub struct ModelPart {
     name: String,
     nodes: Nodes,
@@ -32,6 +33,43 @@ pub struct ModelPart {
     /// Renewed ([`crate::entities::fresh_stamp`]) by every access that can change the
     /// condition normals ([`ModelPart::condition_normals_mut`]); 0 before the first.
     condition_normals_stamp: u64,
+}
+
+/// A copy whose big columns (the nodes', the entities', the INDEX_MAPs, the condition
+/// normals, the nodal data's and the parts' lists) are copied on rayon's pool.
+impl Clone for ModelPart {
+    fn clone(&self) -> ModelPart {
+        let ModelPart {
+            name,
+            nodes,
+            elements,
+            conditions,
+            properties,
+            process_info,
+            parts,
+            part_by_path,
+            roots,
+            nodal_data,
+            index_maps,
+            condition_normals,
+            condition_normals_stamp,
+        } = self;
+        ModelPart {
+            name: name.clone(),
+            nodes: nodes.clone(),
+            elements: elements.clone(),
+            conditions: conditions.clone(),
+            properties: properties.clone(),
+            process_info: process_info.clone(),
+            parts: parts.clone(),
+            part_by_path: part_by_path.clone(),
+            roots: roots.clone(),
+            nodal_data: nodal_data.clone(),
+            index_maps: par_clone(index_maps),
+            condition_normals: par_clone(condition_normals),
+            condition_normals_stamp: *condition_normals_stamp,
+        }
+    }
 }
 
 /// [`ModelPart::geometry_stamp`]: equal stamps, equal node coordinates and condition

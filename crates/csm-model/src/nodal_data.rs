@@ -11,6 +11,8 @@ use std::collections::BTreeMap;
 use csm_geometry::math::{Real, Vector};
 use rayon::prelude::*;
 
+use crate::write_at::par_clone;
+
 /// `n` zero vectors, written in parallel on rayon's pool: `vec![Vector::zeros(); n]` writes
 /// every value (a vector is no plain zero to the allocator) on one thread, and the first
 /// touch of each fresh page with it.
@@ -100,7 +102,7 @@ impl VectorVar {
 pub const BUFFER_SIZE: usize = 2;
 
 /// The nodal variables of a model part. Step 0 is the current step, step 1 the previous.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Default)]
 pub struct NodalData {
     n_nodes: usize,
     scalars: BTreeMap<ScalarVar, Vec<Vec<Real>>>,
@@ -108,6 +110,29 @@ pub struct NodalData {
     /// Per vector variable, renewed ([`crate::entities::fresh_stamp`]) by every access that can
     /// change its values ([`NodalData::vector_stamp`]).
     vector_stamps: BTreeMap<VectorVar, u64>,
+}
+
+/// A copy of a variable's steps, each on rayon's pool where it is long.
+fn steps<T: Clone + Send + Sync>(columns: &[Vec<T>]) -> Vec<Vec<T>> {
+    columns.iter().map(|c| par_clone(c)).collect()
+}
+
+/// A copy whose columns are copied on rayon's pool where they are long.
+impl Clone for NodalData {
+    fn clone(&self) -> NodalData {
+        let NodalData {
+            n_nodes,
+            scalars,
+            vectors,
+            vector_stamps,
+        } = self;
+        NodalData {
+            n_nodes: *n_nodes,
+            scalars: scalars.iter().map(|(k, v)| (*k, steps(v))).collect(),
+            vectors: vectors.iter().map(|(k, v)| (*k, steps(v))).collect(),
+            vector_stamps: vector_stamps.clone(),
+        }
+    }
 }
 
 impl NodalData {

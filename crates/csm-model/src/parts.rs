@@ -1,11 +1,12 @@
 //! The tree of sub model parts, addressed by full path (`Contact.ContactSub0`).
 
+use crate::write_at::par_clone;
 use crate::{ConditionIdx, ElementIdx, NodeIdx, PartIdx};
 
 /// One sub model part: its name, its parent, and the entities it holds (sorted dense
 /// indices, no duplicates). An entity can belong to several parts; adding an entity to a
 /// part also adds it to every ancestor, as Kratos does.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Default)]
 pub struct SubModelPart {
     pub(crate) name: String,
     pub(crate) path: String,
@@ -14,6 +15,30 @@ pub struct SubModelPart {
     pub(crate) nodes: Vec<NodeIdx>,
     pub(crate) elements: Vec<ElementIdx>,
     pub(crate) conditions: Vec<ConditionIdx>,
+}
+
+/// A copy whose lists are copied on rayon's pool where they are long.
+impl Clone for SubModelPart {
+    fn clone(&self) -> SubModelPart {
+        let SubModelPart {
+            name,
+            path,
+            parent,
+            children,
+            nodes,
+            elements,
+            conditions,
+        } = self;
+        SubModelPart {
+            name: name.clone(),
+            path: path.clone(),
+            parent: *parent,
+            children: children.clone(),
+            nodes: par_clone(nodes),
+            elements: par_clone(elements),
+            conditions: par_clone(conditions),
+        }
+    }
 }
 
 impl SubModelPart {

@@ -76,6 +76,19 @@ pub fn copy_parts_into<T: Copy + Send + Sync>(out: &mut [T], parts: &[Vec<T>]) {
         .for_each(|(place, part)| place.copy_from_slice(part));
 }
 
+/// Items from which [`par_clone`] copies on rayon's pool.
+const PARALLEL_CLONE_ITEMS: usize = 1 << 15;
+
+/// A copy of `items`, made by rayon's pool where they are many: a fresh list's pages are
+/// first touched by the threads that copy into them (as in [`copy_parts_into`]). The big
+/// columns of a model are cloned this way.
+pub(crate) fn par_clone<T: Clone + Send + Sync>(items: &[T]) -> Vec<T> {
+    if items.len() < PARALLEL_CLONE_ITEMS {
+        return items.to_vec();
+    }
+    items.par_iter().cloned().collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -375,3 +375,81 @@ fn a_part_in_id_order_is_lent_and_another_sorted() {
         .collect();
     assert_eq!(ids, [103, 105, 109, 112]);
 }
+
+/// Everything a model holds, as text (the nodes and entities, their id lookups, the parts,
+/// the INDEX_MAPs, the condition normals, the nodal data, the stamps).
+fn whole_model(mp: &ModelPart) -> String {
+    let mut s = entity_summary(mp);
+    s += &format!(
+        "\nnode flags {:?}\nlookups {:?} {:?} {:?}\n",
+        mp.nodes().flags(),
+        (0..60_005)
+            .map(|id| mp.nodes().index_of(id))
+            .collect::<Vec<_>>(),
+        (0..60_005)
+            .map(|id| mp.elements().index_of(id))
+            .collect::<Vec<_>>(),
+        (0..60_005)
+            .map(|id| mp.conditions().index_of(id))
+            .collect::<Vec<_>>(),
+    );
+    for path in mp.part_paths() {
+        let part = mp.part(mp.get_part(path).unwrap());
+        s += &format!(
+            "part {path} {:?} {:?} {:?}\n",
+            part.nodes(),
+            part.elements(),
+            part.conditions()
+        );
+    }
+    for c in 0..mp.conditions().len() {
+        s += &format!("{:?} ", mp.index_map(ConditionIdx(c as u32)));
+    }
+    s += &format!(
+        "\n{:?}\n{:?} {:?}\n{:?} {:?}",
+        mp.condition_normals(),
+        mp.nodal_data().scalar(ScalarVar::NodalH, 0),
+        mp.nodal_data().vector(VectorVar::Normal, 0),
+        mp.geometry_stamp(),
+        mp.condition_normals_stamp()
+    );
+    s
+}
+
+/// A clone of a model past the parallel copy's size, made on pools of 1–3 threads, holds
+/// everything the model holds, and its geometry stamp.
+#[test]
+fn a_big_model_is_cloned_whole_on_any_pool() {
+    let n = 50_000u32;
+    let mut mp = ModelPart::new("Structure");
+    let ids: Vec<u32> = (1..=n).collect();
+    let positions: Vec<[f64; 3]> = ids.iter().map(|&i| [i as f64, 0.5, -1.0]).collect();
+    mp.add_nodes(&ids, &positions).unwrap();
+    // A sparse id, in the hash part of the lookup.
+    mp.add_node(NodeId(60_000), p(1.0, 2.0, 3.0)).unwrap();
+    let triangles: Vec<u32> = (1..n - 2).flat_map(|i| [i, 1, i, i + 1, i + 2]).collect();
+    mp.add_entity_records(true, GeometryKind::Triangle3D3, "C", &triangles)
+        .unwrap();
+    mp.add_entity_records(false, GeometryKind::Triangle3D3, "E", &triangles)
+        .unwrap();
+    let part = mp.create_part("a.b").unwrap();
+    let some: Vec<NodeIdx> = (0..n / 2).map(NodeIdx).collect();
+    mp.add_nodes_to_part(part, &some);
+    let conditions: Vec<ConditionIdx> = (0..n - 3).step_by(2).map(ConditionIdx).collect();
+    mp.add_conditions_to_part(part, &conditions);
+    mp.index_map_mut(ConditionIdx(7)).add_id(ConditionId(9));
+    mp.condition_normals_mut()[3] = Vector::new(0.0, 0.0, 1.0);
+    let column = (0..mp.nodes().len()).map(|i| i as f64).collect();
+    mp.nodal_data_mut()
+        .set_scalar(ScalarVar::NodalH, column)
+        .unwrap();
+    let expected = whole_model(&mp);
+    for threads in [1, 2, 3] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let copy = pool.install(|| mp.clone());
+        assert_eq!(whole_model(&copy), expected, "{threads} threads");
+    }
+}
