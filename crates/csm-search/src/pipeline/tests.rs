@@ -911,6 +911,29 @@ fn pruned_entries_group_by_slave_with_ascending_masters() {
     assert_eq!(super::by_slave(&reversed), naive);
     assert_eq!(naive[&2], [1, 9, 9]);
     assert!(super::by_slave(&[]).is_empty());
+    // Many entries, in order (as the mapping reports them) and shuffled, on pools of 1–3
+    // threads.
+    let many: Vec<(u32, u32)> = (0..50_000u32)
+        .map(|k| ((k / 3) * 7 % 10_007, (k * 31) % 97))
+        .collect();
+    let mut naive: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+    for &(s, m) in &many {
+        naive.entry(s).or_default().push(m);
+    }
+    for masters in naive.values_mut() {
+        masters.sort_unstable();
+    }
+    let mut in_order = many.clone();
+    in_order.sort_unstable();
+    for threads in [1, 2, 3] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        for list in [&many, &in_order] {
+            assert_eq!(pool.install(|| super::by_slave(list)), naive, "{threads}");
+        }
+    }
 }
 
 /// A refitted kd-tree whose queries reach the result cap is rebuilt from the masters in id

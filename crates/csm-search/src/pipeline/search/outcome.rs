@@ -199,18 +199,31 @@ fn sort_by_id<T: Send + Sync>(entries: &mut [(u32, T)]) {
 }
 
 /// `(slave id, master id)` entries as a map from each slave id to its master ids, ascending
-/// (repeated entries kept): sorted (the mapping reports them in that order already), grouped
-/// by slave and bulk-built into the map, without a tree search per entry.
+/// (repeated entries kept): sorted in parallel where they are not already (the mapping
+/// reports them in order), grouped by slave in parallel (each slave's masters in a list of
+/// their number, no regrowth) and bulk-built into the map, without a tree search per entry.
 pub(crate) fn by_slave(entries: &[(u32, u32)]) -> std::collections::BTreeMap<u32, Vec<u32>> {
-    let mut entries = entries.to_vec();
-    entries.sort_unstable();
-    let mut grouped: Vec<(u32, Vec<u32>)> = Vec::new();
-    for (s, m) in entries {
-        match grouped.last_mut() {
-            Some((last, masters)) if *last == s => masters.push(m),
-            _ => grouped.push((s, vec![m])),
-        }
-    }
+    let sorted: std::borrow::Cow<'_, [(u32, u32)]> = if entries.par_windows(2).all(|w| w[0] <= w[1])
+    {
+        entries.into()
+    } else {
+        let mut owned = entries.to_vec();
+        owned.par_sort_unstable();
+        owned.into()
+    };
+    let n = sorted.len();
+    let starts: Vec<usize> = (0..n)
+        .into_par_iter()
+        .filter(|&k| k == 0 || sorted[k].0 != sorted[k - 1].0)
+        .collect();
+    let grouped: Vec<(u32, Vec<u32>)> = (starts.par_iter().enumerate())
+        .map(|(g, &start)| {
+            let end = starts.get(g + 1).copied().unwrap_or(n);
+            let masters = sorted[start..end].iter().map(|&(_, m)| m).collect();
+            (sorted[start].0, masters)
+        })
+        .collect();
+    // (A list's own iterator collects in place: no second list.)
     grouped.into_iter().collect()
 }
 
