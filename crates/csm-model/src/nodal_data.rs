@@ -20,6 +20,19 @@ pub fn zero_vectors(n: usize) -> Vec<Vector> {
     (0..n).into_par_iter().map(|_| Vector::zeros()).collect()
 }
 
+/// `n` zeros for a column that will be written (a current step), written in parallel on
+/// rayon's pool where they are many: `vec![0.0; n]` takes pages the system zeroes at their
+/// first touch, which would then come later, one page at a time, in whatever pass writes the
+/// column first (a step's, on one thread or two contending).
+fn zero_column(n: usize) -> Vec<Real> {
+    /// Values from which the zeros are written in parallel.
+    const PARALLEL_MIN: usize = 1 << 15;
+    if n < PARALLEL_MIN {
+        return vec![0.0; n];
+    }
+    (0..n).into_par_iter().map(|_| 0.0).collect()
+}
+
 /// Scalar nodal variables the pipeline uses, named as in Kratos.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum ScalarVar {
@@ -144,10 +157,17 @@ impl NodalData {
     pub fn add_scalar(&mut self, var: ScalarVar) {
         let n = self.n_nodes;
         // Each column zeroed on its own (`vec![column; steps]` would copy the first's zeros
-        // into the others, touching every page).
+        // into the others, touching every page); the current step's pages touched now, in
+        // parallel, the others' when a step first writes them.
         self.scalars.entry(var).or_insert_with(|| {
             (0..Self::steps_of(var.is_historical()))
-                .map(|_| vec![0.0; n])
+                .map(|step| {
+                    if step == 0 {
+                        zero_column(n)
+                    } else {
+                        vec![0.0; n]
+                    }
+                })
                 .collect()
         });
     }
@@ -190,7 +210,7 @@ impl NodalData {
         let n = self.n_nodes;
         self.scalars
             .entry(var)
-            .or_insert_with(|| vec![vec![0.0; n]]);
+            .or_insert_with(|| vec![zero_column(n)]);
     }
 
     /// [`NodalData::add_scalar_current`] for a vector variable.

@@ -140,3 +140,29 @@ fn set_scalar_moves_the_values_in() {
     assert_eq!(d.scalar(ScalarVar::NodalH, 0).unwrap(), &[3.0, 4.0]);
     assert_eq!(d.scalar(ScalarVar::NodalH, 1).unwrap(), &[0.0, 0.0]);
 }
+
+/// Columns long enough to be zeroed in parallel are zero, every step of them, on any pool.
+#[test]
+fn long_columns_are_added_as_zeros() {
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut d = NodalData::default();
+        d.resize(100_003);
+        pool.install(|| {
+            d.add_scalar(ScalarVar::WeightedGap);
+            d.add_scalar_current(ScalarVar::NodalH);
+        });
+        for (var, step) in [
+            (ScalarVar::WeightedGap, 0),
+            (ScalarVar::WeightedGap, 1),
+            (ScalarVar::NodalH, 0),
+        ] {
+            let column = d.scalar(var, step).unwrap();
+            assert_eq!(column.len(), 100_003);
+            assert!(column.iter().all(|v| v.to_bits() == 0), "{var:?} {step}");
+        }
+    }
+}
