@@ -49,27 +49,31 @@ pub fn compute_weighted_gap(
     let m = &*model;
     let known = known.unwrap_or_default();
     // (The pairs come mostly in key order: each task looks them up with its own cursor.)
-    let computed: Vec<Option<Result<Option<PairGap>, Error>>> = pairs
-        .par_iter()
+    // Only the pairs the mapping did not compute are listed, with their positions (usually
+    // none: a list of every pair's possible contribution would be as long as the pairs'
+    // contributions, all of them untouched memory to fault in).
+    let computed: Vec<(usize, Result<Option<PairGap>, Error>)> = (pairs.par_iter().enumerate())
         .map_init(
             || known.cursor(),
-            |cursor, &(sc, mc)| {
+            |cursor, (k, &(sc, mc))| {
                 let unknown = cursor.get(sc, mc).is_none();
-                unknown.then(|| pair_weighted_gap(m, sc, mc, &seg_settings, dim))
+                unknown.then(|| (k, pair_weighted_gap(m, sc, mc, &seg_settings, dim)))
             },
         )
+        .flatten()
         .collect();
     // Every pair's contribution, in pair order (looked up in parallel: the sums below then
     // only add).
-    let contributions: Vec<&Result<Option<PairGap>, Error>> = pairs
-        .par_iter()
-        .zip(computed.par_iter())
+    let contributions: Vec<&Result<Option<PairGap>, Error>> = (pairs.par_iter().enumerate())
         .map_init(
             || known.cursor(),
-            |cursor, (&(sc, mc), computed)| {
-                computed
-                    .as_ref()
-                    .or_else(|| cursor.get(sc, mc))
+            |cursor, (k, &(sc, mc))| {
+                cursor
+                    .get(sc, mc)
+                    .or_else(|| {
+                        let at = computed.binary_search_by_key(&k, |(k, _)| *k).ok()?;
+                        Some(&computed[at].1)
+                    })
                     .expect("one contribution per pair, known or computed")
             },
         )
