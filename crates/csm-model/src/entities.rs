@@ -7,7 +7,7 @@ use csm_geometry::GeometryKind;
 use csm_geometry::math::Point;
 use rayon::prelude::*;
 
-use crate::write_at::par_clone;
+use crate::write_at::{par_clone, write_at_ascending};
 use crate::{Flags, NodeIdx, PropertiesId};
 
 /// A value no other change of any model's coordinates or connectivity in this process has
@@ -276,18 +276,21 @@ impl Entities {
         let name_idx = self.name_index(name);
         self.stamp = fresh_stamp();
         let n = kind.n_nodes();
-        self.kinds.resize(self.kinds.len() + added, kind);
-        self.names.resize(self.names.len() + added, name_idx);
+        // Each column extended on rayon's pool (fresh pages, touched by the threads that
+        // write them).
+        self.kinds.par_extend(rayon::iter::repeat_n(kind, added));
+        self.names
+            .par_extend(rayon::iter::repeat_n(name_idx, added));
         let start = self.connectivity.len() - added * n;
         self.offsets
-            .extend((1..=added).map(|k| (start + k * n) as u32));
-        self.properties.extend(
-            records
-                .chunks_exact(width)
+            .par_extend((1..=added).into_par_iter().map(|k| (start + k * n) as u32));
+        self.properties.par_extend(
+            (records.par_chunks_exact(width))
                 .take(added)
                 .map(|r| PropertiesId(r[1])),
         );
-        self.flags.resize(self.flags.len() + added, Flags::new());
+        self.flags
+            .par_extend(rayon::iter::repeat_n(Flags::new(), added));
     }
 
     fn name_index(&mut self, name: &str) -> u16 {
@@ -330,6 +333,8 @@ pub(crate) struct IdIndex {
     dense: Vec<u32>,
     sparse: HashMap<u32, u32>,
     len: usize,
+    /// The largest id present.
+    max: Option<u32>,
 }
 
 impl IdIndex {
@@ -352,6 +357,7 @@ impl IdIndex {
     pub(crate) fn insert(&mut self, id: u32, index: u32) {
         debug_assert!(!self.contains(id));
         self.len += 1;
+        self.max = Some(self.max.map_or(id, |m| m.max(id)));
         let i = id as usize;
         if i < self.dense.len() {
             self.dense[i] = index + 1;
@@ -361,6 +367,39 @@ impl IdIndex {
         } else {
             self.sparse.insert(id, index);
         }
+    }
+
+    /// Adds `id(k) → first + k` for every `k` in `0..n` in one parallel pass, where the ids ascend
+    /// strictly from above every id present and the dense table holds them (kept within the
+    /// bound [`IdIndex::insert`] keeps it in); returns false, adding nothing, where not. Lookups
+    /// then answer as after inserting the ids one by one.
+    pub(crate) fn insert_ascending(
+        &mut self,
+        n: usize,
+        id: impl Fn(usize) -> u32 + Sync,
+        first: u32,
+    ) -> bool {
+        if n == 0 {
+            return true;
+        }
+        let (low, high) = (id(0), id(n - 1));
+        let end = high as usize + 1;
+        let fits = end <= 2 * (self.len + n) + Self::DENSE_SLACK;
+        if !fits
+            || self.max.is_some_and(|m| low <= m)
+            || !(1..n).into_par_iter().all(|k| id(k - 1) < id(k))
+        {
+            return false;
+        }
+        if self.dense.len() < end {
+            let more = end - self.dense.len();
+            self.dense.par_extend(rayon::iter::repeat_n(0, more));
+        }
+        let at = |k: usize| id(k) as usize;
+        write_at_ascending(&mut self.dense, n, at, |k, v| *v = first + k as u32 + 1);
+        self.len += n;
+        self.max = Some(high);
+        true
     }
 }
 
@@ -419,11 +458,17 @@ impl Clone for Entities {
 
 impl Clone for IdIndex {
     fn clone(&self) -> IdIndex {
-        let IdIndex { dense, sparse, len } = self;
+        let IdIndex {
+            dense,
+            sparse,
+            len,
+            max,
+        } = self;
         IdIndex {
             dense: par_clone(dense),
             sparse: sparse.clone(),
             len: *len,
+            max: *max,
         }
     }
 }

@@ -1,7 +1,7 @@
 //! The model part: nodes, elements, conditions, properties, process info, sub model parts
 //! and nodal data.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use csm_geometry::GeometryKind;
 use csm_geometry::math::{Point, Real, Vector};
@@ -300,35 +300,52 @@ impl ModelPart {
         ids: &[u32],
         positions: &[[Real; 3]],
     ) -> Result<(), (usize, Error)> {
+        use rayon::prelude::*;
         let count = ids.len().min(positions.len());
         self.nodes.reserve(count);
-        let mut refused = None;
-        let mut added = 0;
-        for (k, (&id, x)) in ids.iter().zip(positions).enumerate() {
-            if self.nodes.by_id.contains(id) {
-                refused = Some((
-                    k,
-                    ErrorKind::DuplicateId {
-                        entity: EntityKind::Node,
-                        id,
-                    },
-                ));
-                break;
+        let duplicate = |id| ErrorKind::DuplicateId {
+            entity: EntityKind::Node,
+            id,
+        };
+        let finite = |x: &[Real; 3]| x.iter().all(|v| v.is_finite());
+        // The nodes before the first non-finite position, in one parallel pass where their
+        // ids ascend from above every id present (no duplicate is then possible); else one
+        // by one.
+        let bad = positions[..count].par_iter().position_first(|x| !finite(x));
+        let clean = bad.unwrap_or(count);
+        let first = self.nodes.ids.len() as u32;
+        let (added, refused) = if self.nodes.by_id.insert_ascending(clean, |k| ids[k], first) {
+            self.nodes.ids.par_extend(ids[..clean].par_iter().copied());
+            let refused = bad.map(|k| match self.nodes.by_id.contains(ids[k]) {
+                true => (k, duplicate(ids[k])),
+                false => (k, ErrorKind::NonFiniteCoordinate { node: ids[k] }),
+            });
+            (clean, refused)
+        } else {
+            let mut refused = None;
+            let mut added = 0;
+            for (k, (&id, x)) in ids.iter().zip(positions).enumerate() {
+                if self.nodes.by_id.contains(id) {
+                    refused = Some((k, duplicate(id)));
+                    break;
+                }
+                if !finite(x) {
+                    refused = Some((k, ErrorKind::NonFiniteCoordinate { node: id }));
+                    break;
+                }
+                self.nodes.by_id.insert(id, self.nodes.ids.len() as u32);
+                self.nodes.ids.push(id);
+                added += 1;
             }
-            if !x.iter().all(|v| v.is_finite()) {
-                refused = Some((k, ErrorKind::NonFiniteCoordinate { node: id }));
-                break;
-            }
-            self.nodes.by_id.insert(id, self.nodes.ids.len() as u32);
-            self.nodes.ids.push(id);
-            added += 1;
-        }
+            (added, refused)
+        };
         if added > 0 {
-            let points = positions[..added].iter().map(|&x| Point::from(x));
-            self.nodes.initial.extend(points.clone());
-            self.nodes.coordinates.extend(points);
+            let points = || positions[..added].par_iter().map(|&x| Point::from(x));
+            self.nodes.initial.par_extend(points());
+            self.nodes.coordinates.par_extend(points());
             let len = self.nodes.ids.len();
-            self.nodes.flags.resize(len, Default::default());
+            let more = len - self.nodes.flags.len();
+            (self.nodes.flags).par_extend(rayon::iter::repeat_n(crate::Flags::default(), more));
             self.nodes.stamp = crate::entities::fresh_stamp();
             self.nodal_data.resize(len);
         }
@@ -461,24 +478,58 @@ impl ModelPart {
             .find_first(Option::is_some)
             .flatten();
         let usable = missing.map_or(count, |(k, _)| k);
-        let mut last_properties = None;
         let mut refused = None;
-        let mut added = 0;
-        for (k, r) in records.chunks_exact(width).take(usable).enumerate() {
-            if last_properties != Some(r[1]) {
-                self.properties
-                    .entry(PropertiesId(r[1]))
-                    .or_insert_with(|| Properties::new(PropertiesId(r[1])));
-                last_properties = Some(r[1]);
+        let first = target.ids.len() as u32;
+        let id_of = |k: usize| records[k * width];
+        // In one parallel pass where the ids ascend from above every id present (no duplicate
+        // is then possible); else record by record.
+        let added = if target.by_id.insert_ascending(usable, id_of, first) {
+            target
+                .ids
+                .par_extend((0..usable).into_par_iter().map(id_of));
+            // The properties named, each once (per task the runs of one id are skipped).
+            let named = (records.par_chunks_exact(width))
+                .take(usable)
+                .fold(
+                    || (BTreeSet::new(), None),
+                    |(mut set, last), r| {
+                        if last != Some(r[1]) {
+                            set.insert(r[1]);
+                        }
+                        (set, Some(r[1]))
+                    },
+                )
+                .map(|(set, _)| set)
+                .reduce(BTreeSet::new, |mut a, mut b| {
+                    a.append(&mut b);
+                    a
+                });
+            for p in named {
+                (self.properties)
+                    .entry(PropertiesId(p))
+                    .or_insert_with(|| Properties::new(PropertiesId(p)));
             }
-            if target.by_id.contains(r[0]) {
-                refused = Some((k, ErrorKind::DuplicateId { entity, id: r[0] }));
-                break;
+            usable
+        } else {
+            let mut last_properties = None;
+            let mut added = 0;
+            for (k, r) in records.chunks_exact(width).take(usable).enumerate() {
+                if last_properties != Some(r[1]) {
+                    self.properties
+                        .entry(PropertiesId(r[1]))
+                        .or_insert_with(|| Properties::new(PropertiesId(r[1])));
+                    last_properties = Some(r[1]);
+                }
+                if target.by_id.contains(r[0]) {
+                    refused = Some((k, ErrorKind::DuplicateId { entity, id: r[0] }));
+                    break;
+                }
+                target.by_id.insert(r[0], target.ids.len() as u32);
+                target.ids.push(r[0]);
+                added += 1;
             }
-            target.by_id.insert(r[0], target.ids.len() as u32);
-            target.ids.push(r[0]);
-            added += 1;
-        }
+            added
+        };
         // The other columns of the records added; the connectivity of the others goes.
         target.connectivity.truncate(start + added * n);
         target.extend_added(added, kind, name, records, width);

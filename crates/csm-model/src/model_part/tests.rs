@@ -377,7 +377,7 @@ fn a_part_in_id_order_is_lent_and_another_sorted() {
 }
 
 /// Everything a model holds, as text (the nodes and entities, their id lookups, the parts,
-/// the INDEX_MAPs, the condition normals, the nodal data, the stamps).
+/// the INDEX_MAPs, the condition normals, the nodal data), but its stamps.
 fn whole_model(mp: &ModelPart) -> String {
     let mut s = entity_summary(mp);
     s += &format!(
@@ -406,18 +406,16 @@ fn whole_model(mp: &ModelPart) -> String {
         s += &format!("{:?} ", mp.index_map(ConditionIdx(c as u32)));
     }
     s += &format!(
-        "\n{:?}\n{:?} {:?}\n{:?} {:?}",
+        "\n{:?}\n{:?} {:?}",
         mp.condition_normals(),
         mp.nodal_data().scalar(ScalarVar::NodalH, 0),
         mp.nodal_data().vector(VectorVar::Normal, 0),
-        mp.geometry_stamp(),
-        mp.condition_normals_stamp()
     );
     s
 }
 
 /// A clone of a model past the parallel copy's size, made on pools of 1–3 threads, holds
-/// everything the model holds, and its geometry stamp.
+/// everything the model holds, and its stamps.
 #[test]
 fn a_big_model_is_cloned_whole_on_any_pool() {
     let n = 50_000u32;
@@ -451,5 +449,97 @@ fn a_big_model_is_cloned_whole_on_any_pool() {
             .unwrap();
         let copy = pool.install(|| mp.clone());
         assert_eq!(whole_model(&copy), expected, "{threads} threads");
+        assert_eq!(copy.geometry_stamp(), mp.geometry_stamp());
+        assert_eq!(copy.condition_normals_stamp(), mp.condition_normals_stamp());
+    }
+}
+
+/// Bulk insertion in one parallel pass (ids ascending from above every id present) or one by
+/// one (any other order, a jump past the dense table) gives the model and the first error
+/// that inserting node by node and record by record gives, on pools of 1–3 threads.
+#[test]
+fn bulk_insertion_in_any_id_order_is_one_by_one_insertion() {
+    let n = 5_000u32;
+    let ascending: Vec<u32> = (1..=n).collect();
+    let descending: Vec<u32> = (1..=n).rev().collect();
+    let jump: Vec<u32> = (1..=n).map(|i| if i == n { 1 << 30 } else { i }).collect();
+    let later: Vec<u32> = (n + 1..=2 * n).collect();
+    let overlapping: Vec<u32> = (n - 10..2 * n - 10).collect();
+    // Node batches (ids, index of a NaN position) and, per batch, triangle records over the
+    // batch's nodes with the same ids.
+    let cases: Vec<Vec<(&[u32], Option<usize>)>> = vec![
+        vec![(&ascending, None)],
+        vec![(&descending, None)],
+        vec![(&jump, None)],
+        vec![(&ascending, None), (&later, None)],
+        vec![(&ascending, None), (&overlapping, None)],
+        vec![(&ascending, Some(4_000))],
+        vec![(&ascending, None), (&later, Some(0))],
+        vec![(&ascending, None), (&overlapping, Some(20))],
+    ];
+    let position = |id: u32, nan: bool| {
+        let x = if nan { f64::NAN } else { id as f64 };
+        [x, 0.5, -1.0]
+    };
+    let records = |ids: &[u32]| -> Vec<u32> {
+        let max = ids.len() - 2;
+        (ids.iter().take(max).enumerate())
+            .flat_map(|(k, &id)| [id, id % 3, ids[k], ids[k + 1], ids[k + 2]])
+            .collect()
+    };
+    for batches in &cases {
+        let one_by_one = {
+            let mut mp = ModelPart::new("S");
+            let mut errors = Vec::new();
+            for &(ids, nan) in batches {
+                let first = ids.iter().enumerate().find_map(|(k, &id)| {
+                    let p = Point::from(position(id, nan == Some(k)));
+                    mp.add_node(NodeId(id), p).err().map(|e| (k, e.to_string()))
+                });
+                errors.push(first);
+                let recs = records(ids);
+                let first = recs.chunks(5).enumerate().find_map(|(k, r)| {
+                    mp.ensure_properties(PropertiesId(r[1]));
+                    let nodes: Vec<NodeId> = r[2..].iter().map(|&i| NodeId(i)).collect();
+                    (mp.add_condition(
+                        ConditionId(r[0]),
+                        GeometryKind::Triangle3D3,
+                        "C",
+                        &nodes,
+                        PropertiesId(r[1]),
+                    ))
+                    .err()
+                    .map(|e| (k, e.to_string()))
+                });
+                errors.push(first);
+            }
+            (whole_model(&mp), errors)
+        };
+        for threads in [1, 2, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let bulk = pool.install(|| {
+                let mut mp = ModelPart::new("S");
+                let mut errors = Vec::new();
+                for &(ids, nan) in batches {
+                    let positions: Vec<[f64; 3]> = (ids.iter().enumerate())
+                        .map(|(k, &id)| position(id, nan == Some(k)))
+                        .collect();
+                    let added = mp.add_nodes(ids, &positions);
+                    errors.push(added.err().map(|(k, e)| (k, e.to_string())));
+                    let recs = records(ids);
+                    let added = mp.add_entity_records(true, GeometryKind::Triangle3D3, "C", &recs);
+                    errors.push(added.err().map(|(k, e)| (k, e.to_string())));
+                }
+                (whole_model(&mp), errors)
+            });
+            assert_eq!(bulk.1, one_by_one.1, "{threads} threads");
+            assert!(
+                bulk.0 == one_by_one.0,
+                "{threads} threads: the models differ"
+            );
+        }
     }
 }
