@@ -60,7 +60,7 @@ pub fn compute_weighted_gap(
                 unknown.then(|| (k, pair_weighted_gap(m, sc, mc, &seg_settings, dim)))
             },
         )
-        .flatten()
+        .flatten_iter()
         .collect();
     // Every pair's contribution, in pair order (looked up in parallel: the sums below then
     // only add).
