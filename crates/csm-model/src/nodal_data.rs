@@ -278,10 +278,16 @@ impl NodalData {
         if values.len() != self.n_nodes {
             return Err(values);
         }
-        self.add_scalar(var);
-        if let Some(current) = self.scalars.get_mut(&var).and_then(|c| c.first_mut()) {
-            *current = values;
-        }
+        // (An absent variable's current step is `values`: no column of zeros written first;
+        // the other steps are zeroed when a step first writes them.)
+        let n = self.n_nodes;
+        let steps = Self::steps_of(var.is_historical());
+        let columns = self.scalars.entry(var).or_insert_with(|| {
+            let mut columns = vec![Vec::new()];
+            columns.resize_with(steps, || vec![0.0; n]);
+            columns
+        });
+        columns[0] = values;
         Ok(())
     }
 

@@ -188,13 +188,7 @@ pub fn normal_check_with_normals(
     }
     report.inverted_conditions = mark_conditions(model);
     // The marked elements (most meshes have none), found in parallel, inverted in id order.
-    let mut marked: Vec<usize> = {
-        let flags = model.elements().flags();
-        (0..flags.len())
-            .into_par_iter()
-            .filter(|&e| flags[e].is(Flag::MARKER))
-            .collect()
-    };
+    let mut marked = with_marker(model.elements().flags());
     let ids = model.elements().ids();
     marked.sort_unstable_by_key(|&e| ids[e]);
     for e in marked {
@@ -555,16 +549,17 @@ fn mark_conditions(model: &mut ModelPart) -> Vec<ConditionId> {
         .collect()
 }
 
+/// The indices whose flags hold MARKER, ascending, found in parallel.
+fn with_marker(flags: &[csm_model::Flags]) -> Vec<usize> {
+    (0..flags.len())
+        .into_par_iter()
+        .filter(|&i| flags[i].is(Flag::MARKER))
+        .collect()
+}
+
 /// Inverts the MARKER conditions (most meshes have none: found in parallel), in index order.
 fn invert_marked_conditions(model: &mut ModelPart, kratos: bool) {
-    let marked: Vec<usize> = {
-        let flags = model.conditions().flags();
-        (0..flags.len())
-            .into_par_iter()
-            .filter(|&c| flags[c].is(Flag::MARKER))
-            .collect()
-    };
-    for c in marked {
+    for c in with_marker(model.conditions().flags()) {
         invert(model, EntityKind::Condition, c, kratos);
     }
 }

@@ -27,7 +27,7 @@ pub(super) fn kdtree_search(
     let check = !inverted || !p.predefined_master_slave;
     let pre_search = matches!(pass, KdPass::SelfContact { .. });
     let keep_tree = keep_tree && !pre_search;
-    let conditions = conditions_by_id(model, sub);
+    let conditions = model.part_conditions_by_id(sub);
     // The masters in id order and their centres, in two lists the tree takes as its own (no
     // list of pairs to copy: fresh memory is a large part of this stage's cost).
     let flags = model.conditions().flags();
@@ -381,7 +381,8 @@ pub(super) fn self_contact_roles(
     let sub = pair.sub;
     if pair.points.is_empty() {
         let flags = model.conditions().flags();
-        pair.points = conditions_by_id(model, sub)
+        pair.points = model
+            .part_conditions_by_id(sub)
             .iter()
             .filter(|c| flags[c.index()].is(Flag::MASTER))
             .map(|c| c.get())
@@ -412,7 +413,7 @@ pub(super) fn self_contact_roles(
         &mut none,
     )?;
     compute_self_contact_pairing(model, sub)?;
-    let conditions = conditions_by_id(model, sub).into_owned();
+    let conditions = model.part_conditions_by_id(sub).into_owned();
     pair.points = conditions
         .iter()
         .filter(|c| model.index_map(**c).is_empty())

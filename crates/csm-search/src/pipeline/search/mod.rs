@@ -1,7 +1,6 @@
 //! The driver: `ExecuteInitialize`, `ExecuteInitializeSolutionStep` and
 //! `ExecuteFinalizeSolutionStep` of Kratos' ALMContactProcess and its search processes.
 
-use std::borrow::Cow;
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -137,11 +136,6 @@ pub struct ContactSearch {
 
 fn model_error(e: csm_model::Error) -> Error {
     Error::model_data("", e)
-}
-
-/// Conditions of `part` in Kratos' container order (ascending external id).
-fn conditions_by_id(model: &ModelPart, part: PartIdx) -> Cow<'_, [ConditionIdx]> {
-    model.part_conditions_by_id(part)
 }
 
 impl ContactSearch {
