@@ -12,9 +12,15 @@
 //! initialise and search inside one call) says where the next phase begins with a
 //! `csm::stages` event carrying the field `phase` ([`Recorder::next_phase`]).
 //!
+//! Where the system counts them (Linux), every stage also has its minor page faults (field
+//! `faults` of the libraries' events; the binary's own stages and `other` count them here):
+//! those of the whole process while the stage ran, each a page of fresh memory touched for
+//! the first time. A stage that ran beside another on another thread counts the other's too.
+//!
 //! The file (`csm-profile/1`):
 //! `{"format": "csm-profile/1", "threads": N, "phases": {"read": s, …, "total": s},
-//!   "stages": [{"phase": "initialize", "stage": "normal check", "seconds": s}, …]}`; under
+//!   "stages": [{"phase": "initialize", "stage": "normal check", "seconds": s, "faults": n},
+//!   …]}` (`faults` where counted); under
 //! `mpirun` also `"ranks": [{"read": s, "initialize": s, "search": s}, …]`, every rank's
 //! phases in rank order (the file's phases and stages are rank 0's).
 
@@ -23,6 +29,8 @@ use std::sync::{Arc, Mutex, PoisonError};
 use serde_json::{Value, json};
 use tracing::field::{Field, Visit};
 use tracing_subscriber::layer::{Context, Layer};
+
+use crate::search::minor_faults;
 
 /// One stage of a run.
 #[derive(Debug, Clone, PartialEq)]
@@ -33,6 +41,8 @@ pub struct StageTime {
     pub stage: String,
     /// Its wall time (s).
     pub seconds: f64,
+    /// The process's minor page faults while it ran, where the system counts them.
+    pub faults: Option<u64>,
 }
 
 #[derive(Debug, Default)]
@@ -42,6 +52,11 @@ struct State {
     began: Option<std::time::Instant>,
     stages: Vec<StageTime>,
     phases: Vec<(String, f64)>,
+    /// The process's page faults when the current phase began.
+    phase_faults: Option<u64>,
+    /// … when the binary's last stage of the phase ended ([`Recorder::record`]), or the
+    /// phase began.
+    record_faults: Option<u64>,
 }
 
 /// Keeps the stage times of a run (cloning shares the record).
@@ -62,9 +77,12 @@ impl Recorder {
 
     /// Starts phase `name`: the stages that end from now on belong to it.
     pub fn phase(&self, name: &str) {
+        let faults = minor_faults();
         self.with(|s| {
             s.phase = name.to_owned();
             s.began = Some(std::time::Instant::now());
+            s.phase_faults = faults;
+            s.record_faults = faults;
         });
     }
 
@@ -85,39 +103,64 @@ impl Recorder {
     /// Ends the current phase, which took `seconds` in all: what its stages do not cover
     /// becomes its stage `other` (a phase without stages becomes one stage of its name).
     pub fn end_phase(&self, seconds: f64) {
+        let faults_now = minor_faults();
         self.with(|s| {
-            let covered: f64 = s
-                .stages
-                .iter()
-                .filter(|t| t.phase == s.phase)
-                .map(|t| t.seconds)
-                .sum();
+            let of_phase = || s.stages.iter().filter(|t| t.phase == s.phase);
+            let covered: f64 = of_phase().map(|t| t.seconds).sum();
+            // The phase's faults that none of its stages counted.
+            let faults = faults_now.zip(s.phase_faults).map(|(now, began)| {
+                let counted: u64 = of_phase().filter_map(|t| t.faults).sum();
+                now.saturating_sub(began).saturating_sub(counted)
+            });
             let phase = s.phase.clone();
             if covered == 0.0 {
                 s.stages.push(StageTime {
                     phase: phase.clone(),
                     stage: phase.clone(),
                     seconds,
+                    faults,
                 });
             } else if seconds > covered {
                 s.stages.push(StageTime {
                     phase: phase.clone(),
                     stage: "other".to_owned(),
                     seconds: seconds - covered,
+                    faults,
                 });
             }
             s.phases.push((phase, seconds));
         });
     }
 
-    /// Records stage `stage` of the current phase.
+    /// Records stage `stage` of the current phase, which ends now: its page faults are those
+    /// since the previous stage recorded here ended, or the phase began.
     pub fn record(&self, stage: &str, seconds: f64) {
+        let faults_now = minor_faults();
+        self.with(|s| {
+            let faults = faults_now
+                .zip(s.record_faults)
+                .map(|(now, before)| now.saturating_sub(before));
+            s.record_faults = faults_now;
+            let phase = s.phase.clone();
+            s.stages.push(StageTime {
+                phase,
+                stage: stage.to_owned(),
+                seconds,
+                faults,
+            });
+        });
+    }
+
+    /// Records stage `stage` of the current phase as a library reported it (its page faults
+    /// counted there).
+    fn record_reported(&self, stage: &str, seconds: f64, faults: Option<u64>) {
         self.with(|s| {
             let phase = s.phase.clone();
             s.stages.push(StageTime {
                 phase,
                 stage: stage.to_owned(),
                 seconds,
+                faults,
             });
         });
     }
@@ -140,9 +183,15 @@ impl Recorder {
                 "format": "csm-profile/1",
                 "threads": threads,
                 "phases": phases,
-                "stages": s.stages.iter().map(|t| json!({
-                    "phase": t.phase, "stage": t.stage, "seconds": t.seconds
-                })).collect::<Vec<_>>(),
+                "stages": s.stages.iter().map(|t| {
+                    let mut stage = json!({
+                        "phase": t.phase, "stage": t.stage, "seconds": t.seconds
+                    });
+                    if let Some(faults) = t.faults {
+                        stage["faults"] = json!(faults);
+                    }
+                    stage
+                }).collect::<Vec<_>>(),
             })
         })
     }
@@ -162,15 +211,23 @@ pub struct StageLayer {
     recorder: Recorder,
 }
 
-/// The `stage` and `seconds` fields of an event, or its `phase` (the next phase begins).
+/// The `stage`, `seconds` and `faults` fields of an event, or its `phase` (the next phase
+/// begins).
 #[derive(Default)]
 struct StageFields {
     stage: Option<String>,
     seconds: Option<f64>,
+    faults: Option<u64>,
     phase: Option<String>,
 }
 
 impl Visit for StageFields {
+    fn record_u64(&mut self, field: &Field, value: u64) {
+        if field.name() == "faults" {
+            self.faults = Some(value);
+        }
+    }
+
     fn record_f64(&mut self, field: &Field, value: f64) {
         if field.name() == "seconds" {
             self.seconds = Some(value);
@@ -196,7 +253,7 @@ impl<S: tracing::Subscriber> Layer<S> for StageLayer {
         let mut fields = StageFields::default();
         event.record(&mut fields);
         if let (Some(stage), Some(seconds)) = (fields.stage, fields.seconds) {
-            self.recorder.record(&stage, seconds);
+            (self.recorder).record_reported(&stage, seconds, fields.faults);
         } else if let Some(phase) = fields.phase {
             self.recorder.next_phase(&phase);
         }

@@ -520,6 +520,11 @@ fn profile_has_every_phase_and_stage() {
     }
     assert_eq!(named("write")[0], "RESULT.json");
     assert_phases_add_up(&p, &["read", "initialize", "search", "write"]);
+    // Linux counts every stage's page faults; reading the mesh touches fresh memory.
+    if cfg!(target_os = "linux") {
+        assert!(stages.iter().all(|s| s["faults"].is_u64()), "{stages:?}");
+        assert!(stages[0]["faults"].as_u64() > Some(0), "{stages:?}");
+    }
     let plain = csm_json(&["search", mesh.to_str().unwrap(), "--quiet"]);
     let with: Value = serde_json::from_str(&std::fs::read_to_string(&result).unwrap()).unwrap();
     assert_eq!(without_timings(with), without_timings(plain));

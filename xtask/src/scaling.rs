@@ -85,6 +85,11 @@ struct Fastest {
     phases: BTreeMap<String, f64>,
     /// (phase, stage) → seconds, in the order of the first run.
     stages: Vec<((String, String), f64)>,
+    /// (phase, stage) → the page faults of every run that counted them (`faults` of the
+    /// profile: Linux).
+    faults: BTreeMap<(String, String), Vec<u64>>,
+    /// Phase → the page faults of every run, its stages' summed.
+    phase_faults: BTreeMap<String, Vec<u64>>,
 }
 
 impl Fastest {
@@ -106,16 +111,28 @@ impl Fastest {
         }
         // Repeated names within a phase are summed (a stage that runs twice).
         let mut run: Vec<((String, String), f64)> = Vec::new();
+        let mut faults: BTreeMap<(String, String), u64> = BTreeMap::new();
         for s in profile["stages"].as_array().into_iter().flatten() {
             let key = (
                 s["phase"].as_str().unwrap_or_default().to_owned(),
                 s["stage"].as_str().unwrap_or_default().to_owned(),
             );
+            if let Some(n) = s["faults"].as_u64() {
+                *faults.entry(key.clone()).or_default() += n;
+            }
             let t = s["seconds"].as_f64().unwrap_or(f64::NAN);
             match run.iter_mut().find(|(k, _)| *k == key) {
                 Some((_, sum)) => *sum += t,
                 None => run.push((key, t)),
             }
+        }
+        let mut by_phase: BTreeMap<String, u64> = BTreeMap::new();
+        for (key, n) in faults {
+            *by_phase.entry(key.0.clone()).or_default() += n;
+            self.faults.entry(key).or_default().push(n);
+        }
+        for (phase, n) in by_phase {
+            self.phase_faults.entry(phase).or_default().push(n);
         }
         for (key, t) in run {
             match self.stages.iter_mut().find(|(k, _)| *k == key) {
@@ -131,6 +148,18 @@ impl Fastest {
             .find(|(k, _)| k == key)
             .map_or(f64::NAN, |(_, t)| *t)
     }
+
+    /// The median page faults of stage `key` over the runs, where they were counted.
+    fn faults(&self, key: &(String, String)) -> Option<u64> {
+        self.faults.get(key).and_then(|runs| median(runs))
+    }
+}
+
+/// The median of `values` (the upper one of an even count), `None` for none.
+fn median(values: &[u64]) -> Option<u64> {
+    let mut sorted = values.to_vec();
+    sorted.sort_unstable();
+    sorted.get(sorted.len() / 2).copied()
 }
 
 /// The Karp–Flatt serial fraction of speed-up `s` on `n` threads.
@@ -673,6 +702,22 @@ fn section(
              times; `smaller stages` combine theirs."
         )?;
     }
+    if scenes
+        .iter()
+        .any(|sc| sc.by_threads.iter().all(|(_, f)| !f.faults.is_empty()))
+    {
+        writeln!(
+            s,
+            "* **page faults**: the minor page faults of the process while the stage ran \
+             (`faults` of the profile, from Linux's `/proc/self/stat`; the median of the runs), \
+             each a page of fresh memory touched for the first time — kernel time that no \
+             thread count shares out well. A stage that ran beside another on another thread \
+             counts the other's too, and `other` takes the phase's faults that no stage \
+             counted. More faults with N threads than with one are memory the one thread \
+             reused and the N threads took fresh (a per-thread allocator arena, or two \
+             stages holding memory at once)."
+        )?;
+    }
     if scenes.iter().any(|sc| sc.name.starts_with("demo_")) {
         writeln!(
             s,
@@ -713,34 +758,56 @@ fn section(
             let _ = write!(head, " {} copies |", c.n);
             rule.push_str("---:|");
         }
+        // The page faults, where the runs counted them (their median).
+        let counted = !f1.faults.is_empty() && !fnn.faults.is_empty();
+        if counted {
+            let _ = write!(head, " page faults ({t1} / {tn} thr.) |");
+            rule.push_str("---:|");
+        }
         writeln!(s, "{head}\n{rule}")?;
-        let row =
-            |s: &mut String, phase: &str, stage: &str, times: &[f64], ceiling: Option<f64>| {
-                let mut line = format!("| {phase} | {stage} |");
-                for t in times {
-                    let _ = write!(line, " {t:.4} |");
+        let faults_of = |keys: &[&(String, String)]| -> Option<(u64, u64)> {
+            let sum = |f: &Fastest| keys.iter().map(|k| f.faults(k)).sum::<Option<u64>>();
+            sum(f1).zip(sum(fnn))
+        };
+        let row = |s: &mut String,
+                   phase: &str,
+                   stage: &str,
+                   times: &[f64],
+                   ceiling: Option<f64>,
+                   faults: Option<(u64, u64)>| {
+            let mut line = format!("| {phase} | {stage} |");
+            for t in times {
+                let _ = write!(line, " {t:.4} |");
+            }
+            let speed = times[0] / times[times.len() - 1];
+            let e = serial_fraction(speed, *tn / *t1);
+            if *tn > *t1 && speed.is_finite() {
+                // Faster than ideal (noise, caches) is no serial fraction at all.
+                let _ = write!(line, " {speed:.2} | {:.2} |", e.max(0.0));
+                if project {
+                    let _ = write!(line, " {:.1} |", amdahl(e.max(0.0), 16));
                 }
-                let speed = times[0] / times[times.len() - 1];
-                let e = serial_fraction(speed, *tn / *t1);
-                if *tn > *t1 && speed.is_finite() {
-                    // Faster than ideal (noise, caches) is no serial fraction at all.
-                    let _ = write!(line, " {speed:.2} | {:.2} |", e.max(0.0));
-                    if project {
-                        let _ = write!(line, " {:.1} |", amdahl(e.max(0.0), 16));
+            } else {
+                line.push_str(if project { " | | |" } else { " | |" });
+            }
+            if copies.is_some() {
+                match ceiling {
+                    Some(c) => {
+                        let _ = write!(line, " {c:.2} |");
                     }
-                } else {
-                    line.push_str(if project { " | | |" } else { " | |" });
+                    None => line.push_str(" |"),
                 }
-                if copies.is_some() {
-                    match ceiling {
-                        Some(c) => {
-                            let _ = write!(line, " {c:.2} |");
-                        }
-                        None => line.push_str(" |"),
+            }
+            if counted {
+                match faults {
+                    Some((a, b)) => {
+                        let _ = write!(line, " {a} / {b} |");
                     }
+                    None => line.push_str(" |"),
                 }
-                let _ = writeln!(s, "{line}");
-            };
+            }
+            let _ = writeln!(s, "{line}");
+        };
         let ceiling = |keys: &[&(String, String)]| copies.and_then(|c| c.ceiling(keys));
         let threshold = 0.01 * f1.wall;
         for phase in ["read", "initialize", "search", "truth", "write"] {
@@ -763,7 +830,14 @@ fn section(
                         *acc += t;
                     }
                 } else {
-                    row(&mut s, phase, &key.1, &times, ceiling(&[key]));
+                    row(
+                        &mut s,
+                        phase,
+                        &key.1,
+                        &times,
+                        ceiling(&[key]),
+                        faults_of(&[key]),
+                    );
                 }
             }
             if !small_keys.is_empty() {
@@ -772,7 +846,8 @@ fn section(
                 } else {
                     format!("{} smaller stages", small_keys.len())
                 };
-                row(&mut s, phase, &label, &small, ceiling(&small_keys));
+                let faults = faults_of(&small_keys);
+                row(&mut s, phase, &label, &small, ceiling(&small_keys), faults);
             }
             let times: Vec<f64> = sc
                 .by_threads
@@ -780,16 +855,18 @@ fn section(
                 .map(|(_, f)| f.phases.get(phase).copied().unwrap_or(f64::NAN))
                 .collect();
             let all = (phase.to_owned(), "all".to_owned());
+            let phase_faults = |f: &Fastest| f.phase_faults.get(phase).and_then(|r| median(r));
             row(
                 &mut s,
                 &format!("**{phase}**"),
                 "**all**",
                 &times,
                 ceiling(&[&all]),
+                phase_faults(f1).zip(phase_faults(fnn)),
             );
         }
         let walls: Vec<f64> = sc.by_threads.iter().map(|(_, f)| f.wall).collect();
-        row(&mut s, "**whole process**", "", &walls, None);
+        row(&mut s, "**whole process**", "", &walls, None, None);
         writeln!(
             s,
             "\nPeak memory: {} MiB with {t1} thread(s), {} MiB with {tn}.",
@@ -811,8 +888,9 @@ fn scenes_json(scenes: &[SceneRuns], machine: &str) -> Value {
                 "runs": sc.by_threads.iter().map(|(t, f)| json!({
                     "threads": t, "wall_s": f.wall, "peak_rss_kb": f.rss_kb,
                     "phases_s": f.phases,
-                    "stages_s": f.stages.iter().map(|((p, n), t)| json!({
-                        "phase": p, "stage": n, "seconds": t
+                    "stages_s": f.stages.iter().map(|(key, t)| json!({
+                        "phase": key.0, "stage": key.1, "seconds": t,
+                        "page_faults": f.faults(key)
                     })).collect::<Vec<_>>(),
                 })).collect::<Vec<_>>(),
                 "copies": sc.copies.as_ref().map(|c| json!({
@@ -963,7 +1041,7 @@ mod tests {
                 .iter()
                 .map(|p| ((*p).to_owned(), t / 3.0))
                 .collect(),
-            stages: Vec::new(),
+            ..Fastest::default()
         };
         let scenes: Vec<SceneRuns> = ["stacked_blocks_1e5", "sphere_on_plate_2e5"]
             .iter()
@@ -1012,6 +1090,64 @@ mod tests {
         assert_eq!(f.phases["read"], 1.0);
         assert_eq!(f.stage(&("read".into(), "read".into())), 1.0);
         assert_eq!(f.stage(&("search".into(), "mapping".into())), 0.5);
+    }
+
+    /// Page faults: a stage's repeated entries summed within a run, the median over the
+    /// runs, the phase's the sum of its stages', shown beside the times where counted.
+    #[test]
+    fn page_faults_are_the_median_of_the_runs() {
+        let run = |map: u64, other: u64| {
+            json!({"phases": {"search": 1.0},
+                   "stages": [{"phase": "search", "stage": "mapping", "seconds": 0.25,
+                               "faults": map},
+                              {"phase": "search", "stage": "mapping", "seconds": 0.25,
+                               "faults": map},
+                              {"phase": "search", "stage": "other", "seconds": 0.5,
+                               "faults": other}]})
+        };
+        let mut one = Fastest::default();
+        for (map, other) in [(100, 7), (5, 9), (300, 8)] {
+            one.merge(1.0, 1, &run(map, other));
+        }
+        let key = |s: &str| ("search".to_owned(), s.to_owned());
+        assert_eq!(one.faults(&key("mapping")), Some(200));
+        assert_eq!(one.faults(&key("other")), Some(8));
+        assert_eq!(one.faults(&key("result")), None);
+        // (The runs' sums are 207, 19 and 608: not the sum of the stages' medians.)
+        assert_eq!(median(&one.phase_faults["search"]), Some(207));
+        assert_eq!(median(&[]), None);
+        let mut two = Fastest::default();
+        two.merge(0.5, 1, &run(150, 40));
+        let scene = |two: Fastest| SceneRuns {
+            name: "sphere".into(),
+            slave: None,
+            by_threads: vec![(1, one.clone()), (2, two)],
+            copies: None,
+        };
+        let text = section(&[scene(two)], ("a machine", None, "scaling"), Some(3), &[]).unwrap();
+        assert!(text.contains("| page faults (1 / 2 thr.) |"), "{text}");
+        assert!(
+            text.contains("* **page faults**: the minor page faults"),
+            "{text}"
+        );
+        assert!(
+            text.contains("| search | mapping | 0.5000 | 0.5000 | 1.00 | 1.00 | 1.0 | 200 / 300 |"),
+            "{text}"
+        );
+        assert!(text.contains("| **search** | **all** |"), "{text}");
+        assert!(text.contains(" 207 / 340 |"), "{text}");
+        // Runs that counted none (not Linux): no column.
+        let mut quiet = Fastest::default();
+        quiet.merge(0.5, 1, &json!({"phases": {"search": 1.0}, "stages": []}));
+        let text = section(
+            &[scene(quiet)],
+            ("a machine", None, "scaling"),
+            Some(3),
+            &[],
+        )
+        .unwrap();
+        assert!(!text.contains("| page faults ("), "{text}");
+        assert!(!text.contains("* **page faults**"), "{text}");
     }
 
     /// The runs of a folder: the fastest per thread count, the header's slave faces, and a

@@ -78,3 +78,46 @@ fn a_phase_event_starts_the_next_phase() {
         assert!((0.02..1.0).contains(&seconds), "{phase}: {seconds}");
     }
 }
+
+/// Writes one byte in each of `pages` fresh pages (a large allocation: mapped, not reused).
+#[cfg(target_os = "linux")]
+fn touch_fresh_pages(pages: usize) -> usize {
+    let mut fresh = vec![0u8; pages * 4096];
+    for page in fresh.chunks_mut(4096) {
+        page[0] = 1;
+    }
+    fresh.iter().map(|&b| usize::from(b)).sum()
+}
+
+/// The libraries' stages keep the faults they report; the binary's own stages and `other`
+/// count theirs here (process-wide: other tests running beside add to them, never take away).
+#[cfg(target_os = "linux")]
+#[test]
+fn stages_count_their_page_faults() {
+    const PAGES: usize = 4096;
+    // At least one fault per 2 MiB, should the pages be huge.
+    let least = (PAGES * 4096 / (2 << 20)) as u64;
+    let recorder = Recorder::new();
+    let subscriber = tracing_subscriber::registry().with(recorder.layer());
+    tracing::subscriber::with_default(subscriber, || {
+        recorder.phase("search");
+        tracing::debug!(target: "csm::stages", stage = "mapping", seconds = 0.5, faults = 7u64, "m");
+        assert_eq!(touch_fresh_pages(PAGES), PAGES);
+        recorder.end_phase(1.0);
+        recorder.phase("write");
+        assert_eq!(touch_fresh_pages(PAGES), PAGES);
+        recorder.record("RESULT.json", 0.25);
+        recorder.end_phase(0.5);
+    });
+    let faults = |stage: &str| {
+        let found = recorder.stages().into_iter().find(|t| t.stage == stage);
+        found.and_then(|t| t.faults).unwrap()
+    };
+    assert_eq!(faults("mapping"), 7);
+    assert!(faults("other") >= least, "{}", faults("other"));
+    assert!(faults("RESULT.json") >= least, "{}", faults("RESULT.json"));
+    let json = recorder.to_json(1, 1.5);
+    let stages = json["stages"].as_array().unwrap();
+    assert!(stages.iter().all(|s| s["faults"].is_u64()), "{json}");
+    assert_eq!(stages[0]["faults"], 7);
+}
