@@ -43,21 +43,19 @@ impl UnitNormalsSnapshot {
     /// writes on the nodes of the part's conditions only). Nothing happens if the model lost
     /// its `NORMAL`; where its nodes changed in number, this is [`UnitNormalsSnapshot::restore`].
     pub fn restore_all(self, model: &mut ModelPart) {
-        let Some(column) = model.nodal_data_mut().vector_mut(VectorVar::Normal, 0) else {
+        let data = model.nodal_data_mut();
+        let Some(replaced) = data.take_vector(VectorVar::Normal, 0) else {
             return;
         };
-        if column.len() != self.nodal.len() {
+        if replaced.len() != self.nodal.len() {
+            data.put_vector(VectorVar::Normal, 0, replaced);
             return self.restore(model);
         }
-        // Copied in parallel into the column in place; the kept list is freed beside the
-        // work that follows (giving a large list back to the system takes one thread a
-        // while).
-        let nodal = self.nodal;
-        column
-            .par_iter_mut()
-            .zip(nodal.par_iter())
-            .for_each(|(value, kept)| *value = *kept);
-        rayon::spawn(move || drop(nodal));
+        // The kept list becomes the column (no copy of every node's value); the replaced
+        // one is freed beside the work that follows (giving a large list back to the
+        // system takes one thread a while).
+        data.put_vector(VectorVar::Normal, 0, self.nodal);
+        rayon::spawn(move || drop(replaced));
     }
 
     /// Writes the kept `NORMAL` of the nodes of the part's conditions back.
