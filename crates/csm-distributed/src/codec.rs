@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 
 use csm_geometry::GeometryKind;
 use csm_model::{EntityArrays, MeshArrays, PartArrays};
-use csm_search::{NodeResult, SearchResult, StepResult};
+use csm_search::{IdMap, NodeResult, SearchResult, StepResult};
 
 // A rank's owned result as bytes (little endian): the pair maps, the nodes, the warnings.
 
@@ -17,7 +17,7 @@ pub(crate) fn put_str(out: &mut Vec<u8>, s: &str) {
     out.extend_from_slice(s.as_bytes());
 }
 
-fn put_maps(out: &mut Vec<u8>, maps: &BTreeMap<String, BTreeMap<u32, Vec<u32>>>) {
+fn put_maps(out: &mut Vec<u8>, maps: &BTreeMap<String, IdMap<Vec<u32>>>) {
     put_u32(out, maps.len() as u32);
     for (key, map) in maps {
         put_str(out, key);
@@ -75,7 +75,7 @@ impl Reader<'_> {
         let n = self.u32() as usize;
         String::from_utf8_lossy(self.bytes(n)).into_owned()
     }
-    pub(crate) fn maps(&mut self) -> BTreeMap<String, BTreeMap<u32, Vec<u32>>> {
+    pub(crate) fn maps(&mut self) -> BTreeMap<String, IdMap<Vec<u32>>> {
         (0..self.u32())
             .map(|_| {
                 let key = self.string();

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use csm_model::{MeshArrays, ModelPart, Ranks, Transport};
-use csm_search::{ContactSearch, SearchResult, SearchSetup, SearchTreeType, StepResult};
+use csm_search::{ContactSearch, IdMap, SearchResult, SearchSetup, SearchTreeType, StepResult};
 
 use crate::codec::{decode_result, encode_result};
 use crate::{RankPart, Reach, split_rank};
@@ -478,7 +478,7 @@ fn slave_condition_count(mesh: &MeshArrays, slaves: &[&str]) -> usize {
 /// The rank's result for what it owns: its owned slave conditions' pairs (and pruned
 /// entries), its owned slave nodes' results, its warnings.
 fn owned_result(ranks: &Ranks, result: &SearchResult) -> SearchResult {
-    let keep = |maps: &BTreeMap<String, BTreeMap<u32, Vec<u32>>>| {
+    let keep = |maps: &BTreeMap<String, IdMap<Vec<u32>>>| {
         maps.iter()
             .map(|(key, map)| {
                 let owned = map

@@ -51,7 +51,7 @@ mod plan;
 pub mod scenes;
 mod trace;
 pub use pipeline::{
-    ContactSearch, GENERATED_CONDITIONS_PART, MappingTuning, NodeResult, PairGlobals,
+    ContactSearch, GENERATED_CONDITIONS_PART, IdMap, MappingTuning, NodeResult, PairGlobals,
     PairedCondition, QueryOrder, SearchResult, SearchTuning, StepResult, TruthScene,
     generate_interfaces_first, kratos_renumbering, passes_orientation,
 };

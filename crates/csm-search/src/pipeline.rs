@@ -13,6 +13,7 @@
 mod candidates;
 mod filters;
 mod globals;
+mod id_map;
 mod motion;
 mod octree;
 mod pairing;
@@ -26,6 +27,7 @@ mod tuning;
 
 pub use filters::passes_orientation;
 pub use globals::PairGlobals;
+pub use id_map::IdMap;
 pub use result::{NodeResult, SearchResult, StepResult};
 pub use search::TruthScene;
 pub(crate) use search::locate;

@@ -48,18 +48,6 @@ pub(crate) fn start() {
     }
 }
 
-/// The time of this thread's last mark, for work that goes on on another thread (the first
-/// closure of a `rayon::join` called from outside the pool runs on one of the pool's threads):
-/// [`resume`] it there, and back here after.
-pub(crate) fn last() -> Option<Mark> {
-    LAST.with(Cell::get)
-}
-
-/// Continues the stage timing of another thread from its [`last`] mark.
-pub(crate) fn resume(at: Option<Mark>) {
-    LAST.with(|last| last.set(at));
-}
-
 /// Ends stage `name`: prints its wall time since the previous mark (or [`start`]) and the
 /// page faults since then.
 pub(crate) fn mark(name: &str) {

@@ -4,6 +4,8 @@ use std::collections::BTreeMap;
 
 use serde_json::Value;
 
+use super::IdMap;
+
 /// NORMAL_GAP and ACTIVE of one slave-side node after the search step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NodeResult {
@@ -18,14 +20,14 @@ pub struct NodeResult {
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct SearchResult {
     /// For every pair key, every slave-side condition id with its INDEX_MAP keys (ascending).
-    pub pairs: BTreeMap<String, BTreeMap<u32, Vec<u32>>>,
+    pub pairs: BTreeMap<String, IdMap<Vec<u32>>>,
     /// For every pair key, the INDEX_MAP entries (slave condition id → master ids, ascending)
     /// the MappingCheck mortar pruning removed in the step: the search's candidates before the
     /// pruning are `pairs` ∪ `pruned`. Empty without MappingCheck. Not part of RESULT.json
     /// (DESIGN.md §3); the error-vs-run-time report counts spurious candidates with it.
-    pub pruned: BTreeMap<String, BTreeMap<u32, Vec<u32>>>,
+    pub pruned: BTreeMap<String, IdMap<Vec<u32>>>,
     /// Every slave-side node of the pairs.
-    pub nodes: BTreeMap<u32, NodeResult>,
+    pub nodes: IdMap<NodeResult>,
     /// Paired conditions created (Kratos' ComputingContact count).
     pub paired_conditions: usize,
     /// The contact conditions whose id Kratos changes (file id → Kratos id): its contact
@@ -108,10 +110,10 @@ struct ResultJson<'a> {
 impl serde::Serialize for ResultJson<'_> {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeMap;
-        struct Pairs<'a>(&'a BTreeMap<String, BTreeMap<u32, Vec<u32>>>);
+        struct Pairs<'a>(&'a BTreeMap<String, IdMap<Vec<u32>>>);
         impl serde::Serialize for Pairs<'_> {
             fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-                struct Slaves<'a>(&'a BTreeMap<u32, Vec<u32>>);
+                struct Slaves<'a>(&'a IdMap<Vec<u32>>);
                 impl serde::Serialize for Slaves<'_> {
                     fn serialize<S: serde::Serializer>(
                         &self,
@@ -123,7 +125,7 @@ impl serde::Serialize for ResultJson<'_> {
                 serializer.collect_map(self.0.iter().map(|(k, v)| (k, Slaves(v))))
             }
         }
-        struct Nodes<'a>(&'a BTreeMap<u32, NodeResult>);
+        struct Nodes<'a>(&'a IdMap<NodeResult>);
         impl serde::Serialize for Nodes<'_> {
             fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
                 struct Node(NodeResult);
@@ -214,8 +216,8 @@ mod json_tests {
         let mut slaves = BTreeMap::new();
         slaves.insert(12, vec![3, 40]);
         slaves.insert(7, vec![]);
-        r.pairs.insert("0".into(), slaves);
-        r.pairs.insert("1".into(), BTreeMap::new());
+        r.pairs.insert("0".into(), slaves.into());
+        r.pairs.insert("1".into(), IdMap::new());
         r.nodes.insert(
             5,
             NodeResult {

@@ -13,6 +13,7 @@ use std::io::Write;
 
 use serde::Serialize;
 
+use super::IdMap;
 use super::result::{NodeResult, SearchResult, StepResult};
 
 /// Map entries formatted by one task (a few in the unit tests, to cross the boundaries).
@@ -54,51 +55,35 @@ fn pretty_at(out: &mut Vec<u8>, value: &impl Serialize, level: usize) -> std::io
 }
 
 /// Writes a map at depth `level` whose entries `format` writes (key and value, from the
-/// entry's indentation on), formatted in parallel: the keys' range is cut into tasks of
-/// about [`ENTRIES_PER_TASK`] entries each (read from the map in place, not listed first),
-/// batches of at least [`TASKS_PER_BATCH`] tasks written in order. With several threads a
-/// batch is formatted while this thread writes the one before.
+/// entry's indentation on), formatted in parallel: the map's list is cut into tasks of
+/// [`ENTRIES_PER_TASK`] entries each, batches of at least [`TASKS_PER_BATCH`] tasks written
+/// in order. With several threads a batch is formatted while this thread writes the one
+/// before.
 fn write_map<V: Sync>(
     w: &mut impl Write,
-    map: &BTreeMap<u32, V>,
+    map: &IdMap<V>,
     level: usize,
     format: impl Fn(&mut Vec<u8>, u32, &V) + Sync,
 ) -> std::io::Result<()> {
-    let (Some((&first, _)), Some((&last, _))) = (map.first_key_value(), map.last_key_value())
-    else {
+    if map.is_empty() {
         return w.write_all(b"{}");
-    };
+    }
     w.write_all(b"{")?;
-    let tasks = key_ranges(first, last, map.len().div_ceil(ENTRIES_PER_TASK));
-    csm_model::write_in_order(w, &tasks, TASKS_PER_BATCH, |t, &(from, through)| {
+    let tasks: Vec<&[(u32, V)]> = map.as_slice().chunks(ENTRIES_PER_TASK).collect();
+    csm_model::write_in_order(w, &tasks, TASKS_PER_BATCH, |t, entries| {
         let mut out = Vec::new();
-        for (k, (&key, value)) in map.range(from..=through).enumerate() {
+        for (k, (key, value)) in entries.iter().enumerate() {
             // The first task starts at the first key: every other entry follows one.
             if t > 0 || k > 0 {
                 out.push(b',');
             }
             out.push(b'\n');
             indent(&mut out, level + 1);
-            format(&mut out, key, value);
+            format(&mut out, *key, value);
         }
         out
     })?;
     close(w, level, b'}')
-}
-
-/// `count` (at least one, at most the keys') consecutive ranges `from..=through` of about
-/// equal width covering the keys `first..=last`.
-fn key_ranges(first: u32, last: u32, count: usize) -> Vec<(u32, u32)> {
-    let (first, width) = (u64::from(first), u64::from(last - first) + 1);
-    let count = (count.max(1) as u64).min(width);
-    let key = |k: u64| u32::try_from(k).expect("a key between first and last");
-    (0..count)
-        .map(|i| {
-            let from = first + width * i / count;
-            let to = first + width * (i + 1) / count;
-            (key(from), key(to - 1))
-        })
-        .collect()
 }
 
 /// An integer as serde_json writes it (its integer formatter, no allocation).
@@ -161,7 +146,7 @@ fn node_entry(out: &mut Vec<u8>, id: u32, node: &NodeResult, level: usize) {
 /// Writes the pairs map (`pair key → slave map`) at depth `level`.
 fn write_pairs(
     w: &mut impl Write,
-    pairs: &BTreeMap<String, BTreeMap<u32, Vec<u32>>>,
+    pairs: &BTreeMap<String, IdMap<Vec<u32>>>,
     level: usize,
 ) -> std::io::Result<()> {
     if pairs.is_empty() {
@@ -302,12 +287,12 @@ mod tests {
     fn big(steps: bool) -> SearchResult {
         let mut r = SearchResult::default();
         for key in ["0", "1", "a\"b"] {
-            let slaves: BTreeMap<u32, Vec<u32>> = (0..47u32)
+            let slaves: IdMap<Vec<u32>> = (0..47u32)
                 .map(|i| (i * 7 + 1, (0..i % 4).map(|k| 1000 + i + k / 3).collect()))
                 .collect();
             r.pairs.insert(key.to_owned(), slaves);
         }
-        r.pairs.insert("empty".to_owned(), BTreeMap::new());
+        r.pairs.insert("empty".to_owned(), IdMap::new());
         for i in 0..31u32 {
             let normal_gap = match i % 5 {
                 0 => None,
@@ -343,27 +328,6 @@ mod tests {
             ];
         }
         r
-    }
-
-    #[test]
-    fn key_ranges_cover_the_keys_in_order() {
-        for (first, last, count) in [
-            (5, 5, 1),
-            (5, 5, 4),
-            (0, 99, 7),
-            (10, 13, 9),
-            (0, u32::MAX, 3),
-            (u32::MAX - 2, u32::MAX, 2),
-        ] {
-            let ranges = key_ranges(first, last, count);
-            let expected = count.min((last - first) as usize + 1);
-            assert_eq!(ranges.len(), expected, "{first}..={last} in {count}");
-            assert_eq!((ranges[0].0, ranges[ranges.len() - 1].1), (first, last));
-            for w in ranges.windows(2) {
-                assert_eq!(u64::from(w[0].1) + 1, u64::from(w[1].0));
-            }
-            assert!(ranges.iter().all(|(from, through)| from <= through));
-        }
     }
 
     #[test]

@@ -18,7 +18,7 @@ fn run(model: &mut ModelPart, s: &crate::SearchSetup) -> SearchResult {
     search.step(model).unwrap()
 }
 
-fn pairs(r: &SearchResult) -> &BTreeMap<u32, Vec<u32>> {
+fn pairs(r: &SearchResult) -> &crate::IdMap<Vec<u32>> {
     &r.pairs["0"]
 }
 

@@ -105,138 +105,118 @@ pub(super) fn check_pairing(
     };
     crate::trace::mark("mapping");
     // The slaves' masters are final now (what follows changes the INDEX_MAPs' paired ids,
-    // not their keys): their ordered map, one serial pass, is built beside the rest of the
-    // pairing, for the step's result. (The rest first; its stage marks go on from this
-    // thread's, wherever it runs.)
-    let entries = SlaveEntries::of(model, sub, inverted);
+    // not their keys): their map, for the step's result.
+    pair.step_pairs = Some(SlaveEntries::of(model, sub, inverted).into_map());
     crate::trace::mark("result entries");
-    let marks = crate::trace::last();
-    let ((rest, marks), built) = rayon::join(
-        || {
-            crate::trace::resume(marks);
-            let rest = || -> Result<Vec<String>, Error> {
-                let mapping_warnings = report.warnings(mode);
-                let ids = model.conditions().ids();
-                pair.pruned = report
-                    .removed
-                    .iter()
-                    .map(|r| (ids[r.slave.index()], r.master.get()))
-                    .collect();
-                // TO_ERASE: the paired conditions of removed entries (kept from an earlier step) go.
-                if report.removed.iter().any(|r| r.paired.is_some()) {
-                    let erased: BTreeSet<u32> = report
-                        .removed
-                        .iter()
-                        .filter_map(|r| r.paired.map(ConditionId::get))
-                        .collect();
-                    pair.paired.retain(|pc| !erased.contains(&pc.id.get()));
-                }
-                if let Some(d) = restore {
-                    shift_nodes(model, sub, d, -1.0);
-                }
-                let normals_mode = match compatibility {
-                    Compatibility::Kratos => NormalsMode::Kratos,
-                    Compatibility::Robust => NormalsMode::Once,
-                };
-                match unit_normals {
-                    // The mapping changed NORMAL only on nodes of the part's conditions (its mean
-                    // normals): the kept column is the restored one.
-                    Some(kept) => kept.restore_all(model),
-                    None => drop(
-                        compute_unit_normals(model, Some(sub), normals_mode)
-                            .map_err(model_error)?,
-                    ),
-                }
-                crate::trace::mark("unit normals after mapping");
-                // CreateAuxiliaryConditions: slave side, entries without a paired condition.
-                if p.create_auxiliar_conditions {
-                    // The entries are gathered in parallel, in the part's order: `finish_pairs`
-                    // sorts them by slave and master id.
-                    let m = &*model;
-                    let created: Vec<(ConditionIdx, ConditionIdx)> = (m.part(sub).conditions())
-                        .par_iter()
-                        .copied()
-                        .filter(|s| m.conditions().flags()[s.index()].is(Flag::SLAVE) != inverted)
-                        .flat_map_iter(|s| {
-                            m.index_map(s).iter().filter_map(move |(master, paired)| {
-                                let found = m.conditions().index_of(master.get());
-                                found
-                                    .filter(|_| paired.is_none())
-                                    .map(|mi| (s, ConditionIdx(mi as u32)))
-                            })
-                        })
-                        .collect();
-                    finish_pairs(model, pair, created, condition_id);
-                }
-                crate::trace::mark("auxiliary conditions");
-                // ComputeWeightedReaction: only the Advanced activation reads WEIGHTED_GAP.
-                if plan.weighted_gap.is_used() {
-                    let paired: Vec<_> =
-                        pair.paired.iter().map(|pc| (pc.slave, pc.master)).collect();
-                    let isolated = act::compute_weighted_gap(
-                        model,
-                        sub,
-                        &paired,
-                        (mode, distance_threshold),
-                        dim,
-                        known_gaps,
-                    )
-                    .map_err(activation_error)?;
-                    for (pc, isolated) in pair.paired.iter_mut().zip(isolated) {
-                        pc.isolated = isolated;
-                    }
-                }
-                crate::trace::mark("weighted gap");
-                let rule = if p.simple_search {
-                    act::ActivationRule::Simple
-                } else {
-                    act::ActivationRule::Advanced {
-                        static_check_movement: p.static_check_movement,
-                        consider_gap_threshold: p.consider_gap_threshold,
-                        distance_threshold,
-                        active_check_factor: model
-                            .process_info()
-                            .number("ACTIVE_CHECK_FACTOR")
-                            .unwrap_or(0.0),
-                    }
-                };
-                // Python's ALM path computes INITIAL_PENALTY and SCALE_FACTOR with
-                // ALMVariablesCalculationProcess, which csm does not emulate: without values in the
-                // setup's `process_info` the guess is skipped (with a warning) rather than guessed wrong.
-                // The C++ path reads absent values as 0 (0/0 = NaN, Q25), which kratos mode reproduces.
-                let initial_penalty = model.process_info().number("INITIAL_PENALTY");
-                let scale_factor = model.process_info().number("SCALE_FACTOR");
-                let not_emulated =
-                    python_path && (initial_penalty.is_none() || scale_factor.is_none());
-                let multiplier = act::MultiplierSettings {
-                    kind: act::MultiplierKind::of(model),
-                    initial_penalty,
-                    scale_factor,
-                    predict_correct: p.predict_correct_lagrange_multiplier,
-                    slip: frictional,
-                    pure_slip: p.pure_slip,
-                    guarded: compatibility == Compatibility::Robust || not_emulated,
-                };
-                let report = act::compute_active_inactive_nodes(
-                    model,
-                    sub,
-                    &act::ActivationSettings {
-                        rule,
-                        inverted,
-                        keep_gap_on_inactive: compatibility == Compatibility::Robust,
-                        multiplier,
-                    },
-                );
-                crate::trace::mark("activation");
-                let mut warnings = mapping_warnings;
-                warnings.extend(report.warnings);
-                Ok(warnings)
-            };
-            (rest(), crate::trace::last())
+    let mapping_warnings = report.warnings(mode);
+    let ids = model.conditions().ids();
+    pair.pruned = report
+        .removed
+        .iter()
+        .map(|r| (ids[r.slave.index()], r.master.get()))
+        .collect();
+    // TO_ERASE: the paired conditions of removed entries (kept from an earlier step) go.
+    if report.removed.iter().any(|r| r.paired.is_some()) {
+        let erased: BTreeSet<u32> = report
+            .removed
+            .iter()
+            .filter_map(|r| r.paired.map(ConditionId::get))
+            .collect();
+        pair.paired.retain(|pc| !erased.contains(&pc.id.get()));
+    }
+    if let Some(d) = restore {
+        shift_nodes(model, sub, d, -1.0);
+    }
+    let normals_mode = match compatibility {
+        Compatibility::Kratos => NormalsMode::Kratos,
+        Compatibility::Robust => NormalsMode::Once,
+    };
+    match unit_normals {
+        // The mapping changed NORMAL only on nodes of the part's conditions (its mean
+        // normals): the kept column is the restored one.
+        Some(kept) => kept.restore_all(model),
+        None => drop(compute_unit_normals(model, Some(sub), normals_mode).map_err(model_error)?),
+    }
+    crate::trace::mark("unit normals after mapping");
+    // CreateAuxiliaryConditions: slave side, entries without a paired condition.
+    if p.create_auxiliar_conditions {
+        // The entries are gathered in parallel, in the part's order: `finish_pairs`
+        // sorts them by slave and master id.
+        let m = &*model;
+        let created: Vec<(ConditionIdx, ConditionIdx)> = (m.part(sub).conditions())
+            .par_iter()
+            .copied()
+            .filter(|s| m.conditions().flags()[s.index()].is(Flag::SLAVE) != inverted)
+            .flat_map_iter(|s| {
+                m.index_map(s).iter().filter_map(move |(master, paired)| {
+                    let found = m.conditions().index_of(master.get());
+                    found
+                        .filter(|_| paired.is_none())
+                        .map(|mi| (s, ConditionIdx(mi as u32)))
+                })
+            })
+            .collect();
+        finish_pairs(model, pair, created, condition_id);
+    }
+    crate::trace::mark("auxiliary conditions");
+    // ComputeWeightedReaction: only the Advanced activation reads WEIGHTED_GAP.
+    if plan.weighted_gap.is_used() {
+        let paired: Vec<_> = pair.paired.iter().map(|pc| (pc.slave, pc.master)).collect();
+        let isolated = act::compute_weighted_gap(
+            model,
+            sub,
+            &paired,
+            (mode, distance_threshold),
+            dim,
+            known_gaps,
+        )
+        .map_err(activation_error)?;
+        for (pc, isolated) in pair.paired.iter_mut().zip(isolated) {
+            pc.isolated = isolated;
+        }
+    }
+    crate::trace::mark("weighted gap");
+    let rule = if p.simple_search {
+        act::ActivationRule::Simple
+    } else {
+        act::ActivationRule::Advanced {
+            static_check_movement: p.static_check_movement,
+            consider_gap_threshold: p.consider_gap_threshold,
+            distance_threshold,
+            active_check_factor: model
+                .process_info()
+                .number("ACTIVE_CHECK_FACTOR")
+                .unwrap_or(0.0),
+        }
+    };
+    // Python's ALM path computes INITIAL_PENALTY and SCALE_FACTOR with
+    // ALMVariablesCalculationProcess, which csm does not emulate: without values in the
+    // setup's `process_info` the guess is skipped (with a warning) rather than guessed wrong.
+    // The C++ path reads absent values as 0 (0/0 = NaN, Q25), which kratos mode reproduces.
+    let initial_penalty = model.process_info().number("INITIAL_PENALTY");
+    let scale_factor = model.process_info().number("SCALE_FACTOR");
+    let not_emulated = python_path && (initial_penalty.is_none() || scale_factor.is_none());
+    let multiplier = act::MultiplierSettings {
+        kind: act::MultiplierKind::of(model),
+        initial_penalty,
+        scale_factor,
+        predict_correct: p.predict_correct_lagrange_multiplier,
+        slip: frictional,
+        pure_slip: p.pure_slip,
+        guarded: compatibility == Compatibility::Robust || not_emulated,
+    };
+    let report = act::compute_active_inactive_nodes(
+        model,
+        sub,
+        &act::ActivationSettings {
+            rule,
+            inverted,
+            keep_gap_on_inactive: compatibility == Compatibility::Robust,
+            multiplier,
         },
-        move || entries.into_map(),
     );
-    crate::trace::resume(marks);
-    pair.step_pairs = Some(built);
-    rest
+    crate::trace::mark("activation");
+    let mut warnings = mapping_warnings;
+    warnings.extend(report.warnings);
+    Ok(warnings)
 }

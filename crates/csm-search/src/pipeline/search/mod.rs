@@ -15,6 +15,7 @@ use csm_model::{
 use csm_trees::KdTree;
 use rayon::prelude::*;
 
+use super::IdMap;
 use super::candidates::{Bv, Candidate, PerMaster, QueryContext, QueryScratch, slave_candidates};
 use super::globals::PairGlobals;
 use super::motion::{apply_nodal_values, check_step_parts, step_positions};
@@ -95,7 +96,7 @@ struct PairSearch {
     /// The slaves' masters of this step, as the result lists them (`SearchResult.pairs`),
     /// built by MappingCheck's pairing once the mapping has pruned the INDEX_MAPs (nothing
     /// after it changes their keys); taken by the step's result, cleared at every step.
-    step_pairs: Option<BTreeMap<u32, Vec<u32>>>,
+    step_pairs: Option<IdMap<Vec<u32>>>,
 }
 
 /// A kd-tree kept from one step to the next, with the condition ids it was built over (in

@@ -25,11 +25,7 @@ impl ContactSearch {
     }
 
     /// The result, with `built[i]`, where given, as pair `i`'s slaves and their masters.
-    fn assemble(
-        &self,
-        model: &ModelPart,
-        mut built: Vec<Option<BTreeMap<u32, Vec<u32>>>>,
-    ) -> SearchResult {
+    fn assemble(&self, model: &ModelPart, mut built: Vec<Option<IdMap<Vec<u32>>>>) -> SearchResult {
         let mut result = SearchResult {
             warnings: self.warnings.clone(),
             kratos_condition_ids: self.kratos_ids.clone(),
@@ -38,8 +34,6 @@ impl ContactSearch {
         let node_ids = model.nodes().ids();
         for (pair, built) in self.pairs.iter().zip(&mut built) {
             let inverted = pair.params.inverted_search;
-            // Collected in vectors and bulk-built into the maps (sorted input: no per-entry
-            // tree insertion).
             // The slave side's nodes, by node index (no sort of every face's nodes), marked in
             // parallel (every mark is `true`: the order of the writes does not matter).
             let on_slave_side: Vec<AtomicBool> = (0..model.nodes().len())
@@ -84,17 +78,10 @@ impl ContactSearch {
                 })
                 .collect();
             sort_by_id(&mut node_results);
-            // The two ordered maps are built side by side (each is one serial pass).
-            let (slaves, node_results): (BTreeMap<u32, Vec<u32>>, BTreeMap<u32, NodeResult>) =
-                rayon::join(
-                    // The slaves' masters: the map the pairing built, or built here.
-                    || {
-                        built.take().unwrap_or_else(|| {
-                            SlaveEntries::of(model, pair.sub, inverted).into_map()
-                        })
-                    },
-                    || node_results.into_iter().collect(),
-                );
+            let node_results = IdMap::from_sorted_unchecked(node_results);
+            // The slaves' masters: the map the pairing built, or built here.
+            let slaves = (built.take())
+                .unwrap_or_else(|| SlaveEntries::of(model, pair.sub, inverted).into_map());
             if result.nodes.is_empty() {
                 result.nodes = node_results;
             } else {
@@ -156,10 +143,8 @@ impl SlaveEntries {
     /// The map of `SearchResult.pairs`: every slave, with its masters or none.
     ///
     /// The map's sorted entries are written in parallel, in tasks of ids each taking its
-    /// masters, into one list that the map's bulk build then reads in place: only the
-    /// tree's nodes are built on one thread (the list's fresh pages are touched by every
-    /// worker, not by that one).
-    pub(super) fn into_map(self) -> BTreeMap<u32, Vec<u32>> {
+    /// masters, into the list that becomes the map.
+    pub(super) fn into_map(self) -> IdMap<Vec<u32>> {
         /// Slaves per parallel task.
         const PER_TASK: usize = 4096;
         let SlaveEntries { ids, mut masters } = self;
@@ -186,8 +171,7 @@ impl SlaveEntries {
                     }
                 }
             });
-        // (A list's own iterator collects in place: no second list.)
-        entries.into_iter().collect()
+        IdMap::from_sorted_unchecked(entries)
     }
 }
 
@@ -200,9 +184,9 @@ fn sort_by_id<T: Send + Sync>(entries: &mut [(u32, T)]) {
 
 /// `(slave id, master id)` entries as a map from each slave id to its master ids, ascending
 /// (repeated entries kept): sorted in parallel where they are not already (the mapping
-/// reports them in order), grouped by slave in parallel (each slave's masters in a list of
-/// their number, no regrowth) and bulk-built into the map, without a tree search per entry.
-pub(crate) fn by_slave(entries: &[(u32, u32)]) -> std::collections::BTreeMap<u32, Vec<u32>> {
+/// reports them in order) and grouped by slave in parallel (each slave's masters in a list of
+/// their number, no regrowth) into the map's list.
+pub(crate) fn by_slave(entries: &[(u32, u32)]) -> IdMap<Vec<u32>> {
     let sorted: std::borrow::Cow<'_, [(u32, u32)]> = if entries.par_windows(2).all(|w| w[0] <= w[1])
     {
         entries.into()
@@ -223,8 +207,7 @@ pub(crate) fn by_slave(entries: &[(u32, u32)]) -> std::collections::BTreeMap<u32
             (sorted[start].0, masters)
         })
         .collect();
-    // (A list's own iterator collects in place: no second list.)
-    grouped.into_iter().collect()
+    IdMap::from_sorted_unchecked(grouped)
 }
 
 #[cfg(test)]
