@@ -106,7 +106,7 @@ pub(super) fn check_pairing(
     crate::trace::mark("mapping");
     // The slaves' masters are final now (what follows changes the INDEX_MAPs' paired ids,
     // not their keys): their map, for the step's result.
-    pair.step_pairs = Some(SlaveEntries::of(model, sub, inverted).into_map());
+    pair.step_pairs = Some(super::outcome::slave_map(model, sub, inverted));
     crate::trace::mark("result entries");
     let mapping_warnings = report.warnings(mode);
     let ids = model.conditions().ids();

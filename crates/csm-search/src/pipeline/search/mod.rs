@@ -59,7 +59,6 @@ use kdtree_path::{KdPass, kdtree_search, self_contact_roles};
 use mortar_conditions::{
     InitialNormals, clear_mortar_conditions, finish_pairs, update_mortar_conditions,
 };
-use outcome::SlaveEntries;
 #[cfg(test)]
 pub(crate) use outcome::by_slave;
 #[cfg(test)]

@@ -59,29 +59,23 @@ impl ContactSearch {
                 .into_par_iter()
                 .filter(|&i| on_slave_side[i as usize].load(Ordering::Relaxed))
                 .collect();
-            let mut node_results: Vec<(u32, NodeResult)> = marked
-                .par_iter()
-                .map(|&i| {
-                    let i = i as usize;
-                    // NORMAL_GAP is never written by No/DirectCheck (null); MappingCheck's
-                    // 1e12 "not mapped" sentinel is null too.
-                    let normal_gap = gaps
-                        .and_then(|g| g.get(i).copied())
-                        .filter(|g| *g != csm_activation::NORMAL_GAP_SENTINEL);
-                    (
-                        node_ids[i],
-                        NodeResult {
-                            normal_gap,
-                            active: node_flags[i].is(Flag::ACTIVE),
-                        },
-                    )
-                })
-                .collect();
-            sort_by_id(&mut node_results);
-            let node_results = IdMap::from_sorted_unchecked(node_results);
+            let node_results = by_id(&marked, |&i| {
+                let i = i as usize;
+                // NORMAL_GAP is never written by No/DirectCheck (null); MappingCheck's 1e12
+                // "not mapped" sentinel is null too.
+                let normal_gap = gaps
+                    .and_then(|g| g.get(i).copied())
+                    .filter(|g| *g != csm_activation::NORMAL_GAP_SENTINEL);
+                (
+                    node_ids[i],
+                    NodeResult {
+                        normal_gap,
+                        active: node_flags[i].is(Flag::ACTIVE),
+                    },
+                )
+            });
             // The slaves' masters: the map the pairing built, or built here.
-            let slaves = (built.take())
-                .unwrap_or_else(|| SlaveEntries::of(model, pair.sub, inverted).into_map());
+            let slaves = (built.take()).unwrap_or_else(|| slave_map(model, pair.sub, inverted));
             if result.nodes.is_empty() {
                 result.nodes = node_results;
             } else {
@@ -100,79 +94,37 @@ impl ContactSearch {
     }
 }
 
-/// The slave conditions of a ContactSub with their INDEX_MAPs' masters: the content of
-/// `SearchResult.pairs` before it becomes its map. Most slaves have no master: their ids are
-/// listed alone (4 B each), and only the others carry their masters.
-pub(super) struct SlaveEntries {
-    /// Every slave's id, ascending.
-    ids: Vec<u32>,
-    /// The slaves with masters, by id: their masters, ascending.
-    masters: Vec<(u32, Vec<u32>)>,
+/// The slave conditions of ContactSub `sub`'s slave side, each with its INDEX_MAP's masters
+/// (ascending, none for most): the map of `SearchResult.pairs`.
+pub(super) fn slave_map(model: &ModelPart, sub: PartIdx, inverted: bool) -> IdMap<Vec<u32>> {
+    let ids = model.conditions().ids();
+    let cflags = model.conditions().flags();
+    let is_slave = |c: &ConditionIdx| cflags[c.index()].is(Flag::SLAVE) != inverted;
+    let slaves: Vec<ConditionIdx> = (model.part(sub).conditions().par_iter())
+        .copied()
+        .filter(is_slave)
+        .collect();
+    by_id(&slaves, |c| {
+        let map = model.index_map(*c);
+        let masters = if map.is_empty() {
+            Vec::new()
+        } else {
+            map.masters().map(ConditionId::get).collect()
+        };
+        (ids[c.index()], masters)
+    })
 }
 
-impl SlaveEntries {
-    /// The entries of ContactSub `sub`'s slave side.
-    pub(super) fn of(model: &ModelPart, sub: PartIdx, inverted: bool) -> SlaveEntries {
-        let ids = model.conditions().ids();
-        let cflags = model.conditions().flags();
-        let is_slave = |c: &ConditionIdx| cflags[c.index()].is(Flag::SLAVE) != inverted;
-        let slave_list: Vec<ConditionIdx> = (model.part(sub).conditions().par_iter())
-            .copied()
-            .filter(is_slave)
-            .collect();
-        let mut slave_ids: Vec<u32> = slave_list.par_iter().map(|c| ids[c.index()]).collect();
-        let mut masters: Vec<(u32, Vec<u32>)> = (slave_list.par_iter())
-            .filter(|c| !model.index_map(**c).is_empty())
-            .map(|c| {
-                let masters = model.index_map(*c).masters().map(ConditionId::get);
-                (ids[c.index()], masters.collect())
-            })
-            .collect();
-        // A part's conditions are duplicate-free, so each id comes once. (Usually in id
-        // order already: the checks run in parallel, the sorts' own would not.)
-        if !slave_ids.par_windows(2).all(|w| w[0] < w[1]) {
-            slave_ids.par_sort_unstable();
-        }
-        sort_by_id(&mut masters);
-        SlaveEntries {
-            ids: slave_ids,
-            masters,
-        }
-    }
-
-    /// The map of `SearchResult.pairs`: every slave, with its masters or none.
-    ///
-    /// The map's sorted entries are written in parallel, in tasks of ids each taking its
-    /// masters, into the list that becomes the map.
-    pub(super) fn into_map(self) -> IdMap<Vec<u32>> {
-        /// Slaves per parallel task.
-        const PER_TASK: usize = 4096;
-        let SlaveEntries { ids, mut masters } = self;
-        // Each task's ids and the masters among them (both ascend).
-        let mut tasks = Vec::with_capacity(ids.len().div_ceil(PER_TASK));
-        let mut rest = masters.as_mut_slice();
-        for chunk in ids.chunks(PER_TASK) {
-            let last = chunk[chunk.len() - 1];
-            let k = rest.partition_point(|(s, _)| *s <= last);
-            let (mine, tail) = std::mem::take(&mut rest).split_at_mut(k);
-            tasks.push((chunk, mine));
-            rest = tail;
-        }
-        let mut entries: Vec<(u32, Vec<u32>)> = Vec::new();
-        entries.par_extend((0..ids.len()).into_par_iter().map(|_| (0, Vec::new())));
-        (entries.par_chunks_mut(PER_TASK))
-            .zip(tasks)
-            .for_each(|(out, (chunk, mine))| {
-                let mut with = mine.iter_mut().peekable();
-                for (slot, &id) in out.iter_mut().zip(chunk) {
-                    slot.0 = id;
-                    if let Some((_, m)) = with.next_if(|(s, _)| *s == id) {
-                        slot.1 = std::mem::take(m);
-                    }
-                }
-            });
-        IdMap::from_sorted_unchecked(entries)
-    }
+/// The map of the entries `entry` gives for `items` (distinct ids): written in one parallel
+/// pass in the items' order into the map's list, sorted after in parallel where the ids do
+/// not ascend already (a part's conditions usually come in id order).
+fn by_id<T: Sync, V: Send + Sync>(
+    items: &[T],
+    entry: impl Fn(&T) -> (u32, V) + Sync + Send,
+) -> IdMap<V> {
+    let mut entries: Vec<(u32, V)> = items.par_iter().map(entry).collect();
+    sort_by_id(&mut entries);
+    IdMap::from_sorted_unchecked(entries)
 }
 
 /// Sorts `entries` by their (distinct) ids, unless they ascend already.
@@ -214,43 +166,33 @@ pub(crate) fn by_slave(entries: &[(u32, u32)]) -> IdMap<Vec<u32>> {
 mod tests {
     use super::*;
 
-    /// The map, built entry by entry: the oracle.
-    fn one_by_one(ids: &[u32], masters: &[(u32, Vec<u32>)]) -> BTreeMap<u32, Vec<u32>> {
-        let mut map: BTreeMap<u32, Vec<u32>> = ids.iter().map(|&id| (id, Vec::new())).collect();
-        for (s, m) in masters {
-            map.insert(*s, m.clone());
-        }
-        map
-    }
-
+    /// The map of entries in a scrambled order, on pools of 1–3 threads, is the one a
+    /// `BTreeMap` collects; ascending entries stay as they are.
     #[test]
-    fn the_slaves_map_holds_every_slave_with_its_masters_on_any_pool() {
-        // Sparse ids over several tasks; masters on every seventh slave, a run at a task's
-        // end and the last slave.
-        let ids: Vec<u32> = (0..20_000).map(|k| 3 * k + 1).collect();
-        let mut masters: Vec<(u32, Vec<u32>)> = (ids.iter().step_by(7))
-            .map(|&s| (s, vec![s + 5, s + 9]))
-            .collect();
-        masters.extend((4090..4100).map(|k| (ids[k], vec![1])));
-        masters.push((ids[ids.len() - 1], vec![2, 3]));
-        masters.sort_unstable_by_key(|(s, _)| *s);
-        masters.dedup_by_key(|(s, _)| *s);
+    fn entries_become_the_map_in_id_order_on_any_pool() {
+        // Sparse ids, masters on every seventh.
+        let entry = |k: &u32| {
+            let id = 3 * k + 1;
+            let masters = if k.is_multiple_of(7) {
+                vec![id + 5, id + 9]
+            } else {
+                Vec::new()
+            };
+            (id, masters)
+        };
+        let ascending: Vec<u32> = (0..20_000).collect();
+        let scrambled: Vec<u32> = (0..20_000u32).map(|k| (k * 7919) % 20_000).collect();
+        let oracle: BTreeMap<u32, Vec<u32>> = ascending.iter().map(entry).collect();
         for threads in [1, 2, 3] {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            let entries = SlaveEntries {
-                ids: ids.clone(),
-                masters: masters.clone(),
-            };
-            let map = pool.install(|| entries.into_map());
-            assert_eq!(map, one_by_one(&ids, &masters), "{threads} threads");
+            for items in [&ascending, &scrambled] {
+                let map = pool.install(|| by_id(items, entry));
+                assert_eq!(map, oracle, "{threads} threads");
+            }
         }
-        let none = SlaveEntries {
-            ids: Vec::new(),
-            masters: Vec::new(),
-        };
-        assert!(none.into_map().is_empty());
+        assert!(by_id(&[] as &[u32], entry).is_empty());
     }
 }
