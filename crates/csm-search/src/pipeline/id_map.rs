@@ -31,16 +31,15 @@ impl<V> IdMap<V> {
         IdMap::default()
     }
 
-    /// The map of `entries`, which must ascend strictly by id.
-    ///
-    /// # Panics
-    /// If they do not (two entries of one id, or out of order).
-    pub fn from_sorted(entries: Vec<(u32, V)>) -> IdMap<V> {
-        assert!(
-            entries.windows(2).all(|w| w[0].0 < w[1].0),
-            "IdMap::from_sorted: the ids must ascend strictly"
-        );
-        IdMap { entries }
+    /// The map of `entries` as they are, where their ids ascend strictly (no copy, no
+    /// sort); `entries` come back unchanged where they do not (two entries of one id, or out
+    /// of order: collect them instead, [`FromIterator`]).
+    pub fn from_sorted(entries: Vec<(u32, V)>) -> Result<IdMap<V>, Vec<(u32, V)>> {
+        if entries.windows(2).all(|w| w[0].0 < w[1].0) {
+            Ok(IdMap { entries })
+        } else {
+            Err(entries)
+        }
     }
 
     /// [`IdMap::from_sorted`] where the caller has checked the order (debug builds check it
@@ -324,7 +323,7 @@ mod tests {
         extended.extend(tail.iter().copied());
         same(&extended, &tree);
         // Ascending entries after the last id: appended as they are.
-        let mut grown = IdMap::from_sorted(vec![(1, 10), (5, 50)]);
+        let mut grown = IdMap::from_sorted(vec![(1, 10), (5, 50)]).unwrap();
         grown.extend([(6, 60), (9, 90)]);
         assert_eq!(grown.into_vec(), [(1, 10), (5, 50), (6, 60), (9, 90)]);
         // Removal, writing and indexing.
@@ -356,8 +355,10 @@ mod tests {
     }
 
     #[test]
-    #[should_panic(expected = "ascend strictly")]
-    fn unsorted_entries_are_refused() {
-        let _ = IdMap::from_sorted(vec![(2, ()), (1, ())]);
+    fn unsorted_entries_come_back() {
+        for entries in [vec![(2, 'a'), (1, 'b')], vec![(1, 'a'), (1, 'b')]] {
+            assert_eq!(IdMap::from_sorted(entries.clone()), Err(entries));
+        }
+        assert_eq!(IdMap::<u8>::from_sorted(Vec::new()), Ok(IdMap::new()));
     }
 }
