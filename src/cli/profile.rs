@@ -59,6 +59,18 @@ struct State {
     record_faults: Option<u64>,
 }
 
+impl State {
+    /// Adds stage `stage` of the current phase.
+    fn push(&mut self, stage: &str, seconds: f64, faults: Option<u64>) {
+        self.stages.push(StageTime {
+            phase: self.phase.clone(),
+            stage: stage.to_owned(),
+            seconds,
+            faults,
+        });
+    }
+}
+
 /// Keeps the stage times of a run (cloning shares the record).
 #[derive(Debug, Clone, Default)]
 pub struct Recorder {
@@ -141,28 +153,14 @@ impl Recorder {
                 .zip(s.record_faults)
                 .map(|(now, before)| now.saturating_sub(before));
             s.record_faults = faults_now;
-            let phase = s.phase.clone();
-            s.stages.push(StageTime {
-                phase,
-                stage: stage.to_owned(),
-                seconds,
-                faults,
-            });
+            s.push(stage, seconds, faults);
         });
     }
 
     /// Records stage `stage` of the current phase as a library reported it (its page faults
     /// counted there).
     fn record_reported(&self, stage: &str, seconds: f64, faults: Option<u64>) {
-        self.with(|s| {
-            let phase = s.phase.clone();
-            s.stages.push(StageTime {
-                phase,
-                stage: stage.to_owned(),
-                seconds,
-                faults,
-            });
-        });
+        self.with(|s| s.push(stage, seconds, faults));
     }
 
     /// The stages recorded so far, in the order they ended.
