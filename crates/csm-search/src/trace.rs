@@ -17,9 +17,18 @@ fn enabled() -> bool {
 /// A point of the stage trace: when, and the process's minor page faults by then (where the
 /// system says).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Mark {
+struct Mark {
     at: Instant,
     faults: Option<u64>,
+}
+
+impl Mark {
+    fn now() -> Mark {
+        Mark {
+            at: Instant::now(),
+            faults: minor_faults(),
+        }
+    }
 }
 
 thread_local! {
@@ -40,11 +49,7 @@ pub fn minor_faults() -> Option<u64> {
 /// Starts the timing of the stages that follow (no output).
 pub(crate) fn start() {
     if enabled() {
-        let mark = Mark {
-            at: Instant::now(),
-            faults: minor_faults(),
-        };
-        LAST.with(|last| last.set(Some(mark)));
+        LAST.with(|last| last.set(Some(Mark::now())));
     }
 }
 
@@ -54,16 +59,11 @@ pub(crate) fn mark(name: &str) {
     if !enabled() {
         return;
     }
-    let now = Instant::now();
-    let faults_now = minor_faults();
-    let mark = Mark {
-        at: now,
-        faults: faults_now,
-    };
+    let now = Mark::now();
     LAST.with(|last| {
-        if let Some(before) = last.replace(Some(mark)) {
-            let seconds = (now - before.at).as_secs_f64();
-            match faults_now.zip(before.faults) {
+        if let Some(before) = last.replace(Some(now)) {
+            let seconds = (now.at - before.at).as_secs_f64();
+            match now.faults.zip(before.faults) {
                 Some((n, b)) => {
                     let faults = n.saturating_sub(b);
                     tracing::debug!(

@@ -104,13 +104,13 @@ pub(super) fn slave_map(model: &ModelPart, sub: PartIdx, inverted: bool) -> IdMa
         .copied()
         .filter(is_slave)
         .collect();
+    // (A slave without masters collects an empty list: no allocation.)
     by_id(&slaves, |c| {
-        let map = model.index_map(*c);
-        let masters = if map.is_empty() {
-            Vec::new()
-        } else {
-            map.masters().map(ConditionId::get).collect()
-        };
+        let masters = model
+            .index_map(*c)
+            .masters()
+            .map(ConditionId::get)
+            .collect();
         (ids[c.index()], masters)
     })
 }
