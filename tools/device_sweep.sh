@@ -5,7 +5,8 @@
 # --features mpi), xtask (release), copies (release, examples/copies.rs; optional), setup.json
 # (.devrun's: Parts_Slave/Parts_Master) and sphere_on_plate_2e5.mdpa.xz
 # (tools/bench_scenes.py); .ompi/ is tools/ompi_bundle/make_bundle.sh's bundle; both carried. Writes $OUT/threads.tgz (render here with `cargo xtask scaling --runs
-# DIR --label 16-core`) and $OUT/mpi.tgz (profiles, /usr/bin/time lines, logs).
+# DIR --label 16-core`) and $OUT/mpi.tgz (profiles, /usr/bin/time lines, logs). B=0 skips part B
+# (then .ompi/ need not be carried); RA sets the runs per thread count (3), TA part A's limit (s).
 set -u
 D=.dev2; O=/tmp/runs; M=/tmp/mpi; S=/tmp/scenes
 mkdir -p $O $M $S; cp $D/setup.json $O/
@@ -28,6 +29,7 @@ if [ -x $D/copies ]; then
 fi
 rm -f $S/stacked_blocks_1e5.mdpa $S/sphere_on_plate_2e5.mdpa
 tar czf $OUT/threads.tgz -C /tmp runs
+if [ "${B:-1}" = 0 ]; then echo "== done $(date +%T)"; exit 0; fi
 echo "== B: ranks $(date +%T)"
 . ./.ompi/env.sh
 $D/xtask scene stacked_blocks 6e5 $S/strong.mdpa
