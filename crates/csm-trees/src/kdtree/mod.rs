@@ -4,6 +4,7 @@
 
 mod build;
 mod query;
+mod select;
 mod tree;
 
 #[cfg(test)]
