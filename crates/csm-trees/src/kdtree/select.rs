@@ -12,22 +12,21 @@
 //! a time on one thread; [`parallel_pass`] counts them in parallel, finds `K` from the counts,
 //! lists the `K` pairs in parallel and swaps them in parallel (they are disjoint).
 //!
-//! Large ranges first copy the values on the split axis into a column of their own, swapped
-//! with the entries: a pass then reads 8 bytes a position instead of a point's 24 (the passes
-//! of a large range are bound by memory traffic).
+//! The parallel passes first copy the values on the split axis into a column of their own,
+//! swapped with the entries: a pass then reads 8 bytes a position instead of a point's 24
+//! (the passes of a large range are bound by memory traffic).
 
 use csm_geometry::math::{Point, Real};
 use rayon::prelude::*;
 
 use super::build::Entries;
 
-/// Ranges of at least this many points copy their values on the axis into a column first.
-const KEYED_MIN: usize = 65_536;
-
-/// Keyed ranges of at least this many points partition in parallel passes, on a pool of at
-/// least [`PARALLEL_THREADS_MIN`] threads; smaller ones in [`select_blocks`]. (On two threads
-/// a parallel pass, which reads the values once to count the stops and once to list them,
-/// takes as long as one thread's pass.)
+/// On a pool of at least [`PARALLEL_THREADS_MIN`] threads, ranges of at least this many
+/// points copy their values on the axis into a column and partition in parallel passes;
+/// smaller ones, and every range on a smaller pool, in [`select_blocks`] on the points. (On
+/// two threads a parallel pass, which reads the values once to count the stops and once to
+/// list them, takes as long as one thread's pass, and the column's copy costs more than it
+/// saves: measured on the demo 4e5, the sphere 2e5 and the blocks 1e5.)
 const PARALLEL_PASS_MIN: usize = 65_536;
 
 /// The smallest pool whose selects make parallel passes.
@@ -63,7 +62,7 @@ pub(super) fn select<T: Send>(entries: &mut Entries<'_, T>, m: usize, axis: usiz
         usize::MAX
     };
     let sizes = SelectSizes {
-        keyed_min: KEYED_MIN,
+        keyed_min: parallel_min,
         parallel_min,
         chunk: PASS_CHUNK,
         swap_task: SWAP_TASK,
