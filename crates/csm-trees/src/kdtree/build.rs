@@ -1,5 +1,5 @@
 //! Construction of the kd-tree (reference §6.1): split on the axis of largest spread at the
-//! median found by Kratos' Hoare quickselect (`select`), with Kratos' cut value.
+//! median found by Kratos' Hoare quickselect, with Kratos' cut value.
 
 use csm_geometry::Aabb;
 use csm_geometry::math::{Point, Real};
@@ -160,7 +160,7 @@ fn build_range<T: Send>(
         None => widest_axis(&bounds(entries.points, parallel_min)),
     };
     let m = n / 2;
-    super::select::select(&mut entries, m, axis);
+    select_blocks(&mut entries, m, axis);
     let cut = cut_value(&entries, m, axis);
     // Placeholder, filled once the children exist.
     nodes.push(Node::Leaf { start: 0, end: 0 });
@@ -217,6 +217,87 @@ fn widest_axis(aabb: &Aabb) -> usize {
         }
     }
     axis
+}
+
+/// Positions scanned per block by [`select_blocks`].
+const SCAN_BLOCK: usize = 64;
+
+/// Kratos' Hoare-style quickselect on `axis` over the whole range: afterwards position `m`
+/// holds the value it would hold in sorted order, everything before it is `<=` and everything
+/// after it `>=` (reference §6.1). The same swaps in the same order as Kratos' scalar loop
+/// (so the same permutation; the tests keep that loop as the oracle), found without its
+/// data-dependent scan branches: each partition pass lists, a block at a time
+/// and without branches, the positions its left scan stops at (`v >= pivot`, ascending from
+/// `left + 1`) and those its right scan stops at (`v <= pivot`, descending from
+/// `right − 1`). Hoare's pass swaps the `k`-th of each while the left one is before the right
+/// one; at the first pair where it is not, the scans have crossed and the pass ends at
+/// `j = max(R[k], L[k − 1])` (`L[−1] = left`). Until the crossing, the positions between the
+/// last two stops were never swapped, so listing them from their current values finds the
+/// scans' stops; past it, a listed position only decides that the pass ends, which it does
+/// whatever the value there (a swapped position stops either scan).
+pub(super) fn select_blocks<T>(entries: &mut Entries<'_, T>, m: usize, axis: usize) {
+    let mut left = 0;
+    let mut right = entries.len() - 1;
+    let mut lbuf = [0usize; SCAN_BLOCK];
+    let mut rbuf = [0usize; SCAN_BLOCK];
+    while left < right {
+        if entries.v(left, axis) > entries.v(right, axis) {
+            entries.swap(left, right);
+        }
+        let pivot = entries.v(left, axis);
+        // Next position to list on each side, and the listed stops not yet paired.
+        let (mut lnext, mut rnext) = (left + 1, right as isize - 1);
+        let (mut lbeg, mut lend, mut rbeg, mut rend) = (0, 0, 0, 0);
+        // The previous left stop (`left` before the first).
+        let mut last_l = left;
+        let j = loop {
+            if lbeg == lend {
+                // `v(right) >= pivot`: the list ends there at the latest.
+                lbeg = 0;
+                lend = 0;
+                let stop = (lnext + SCAN_BLOCK).min(right + 1);
+                for p in lnext..stop {
+                    lbuf[lend] = p;
+                    lend += usize::from(entries.v(p, axis) >= pivot);
+                }
+                lnext = stop;
+            }
+            if rbeg == rend {
+                // `v(left) == pivot`: the list ends there at the latest.
+                rbeg = 0;
+                rend = 0;
+                let stop = (rnext - SCAN_BLOCK as isize).max(left as isize - 1);
+                let mut p = rnext;
+                while p > stop {
+                    rbuf[rend] = p as usize;
+                    rend += usize::from(entries.v(p as usize, axis) <= pivot);
+                    p -= 1;
+                }
+                rnext = stop;
+            }
+            if lbeg == lend || rbeg == rend {
+                // A block without a stop: list the next one.
+                continue;
+            }
+            let (l, r) = (lbuf[lbeg], rbuf[rbeg]);
+            if l < r {
+                entries.swap(l, r);
+                last_l = l;
+                lbeg += 1;
+                rbeg += 1;
+            } else {
+                break r.max(last_l);
+            }
+        };
+        entries.swap(left, j);
+        if j > m {
+            right = j - 1;
+        } else if j < m {
+            left = j + 1;
+        } else {
+            break;
+        }
+    }
 }
 
 /// Kratos' cut value: the mean of the largest value left of the median (first maximum, strict

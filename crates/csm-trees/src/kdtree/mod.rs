@@ -4,7 +4,6 @@
 
 mod build;
 mod query;
-mod select;
 mod tree;
 
 #[cfg(test)]

@@ -339,40 +339,6 @@ fn irregular_cloud(n: usize) -> Vec<(usize, Point)> {
         .collect()
 }
 
-/// A tree over more points than a parallel pass of the quickselect takes (a plate's centres
-/// in grid order, which makes the top level's select dozens of passes) is the one-thread
-/// tree on a pool of four threads.
-#[test]
-fn parallel_select_passes_build_the_one_thread_tree() {
-    let cloud: Vec<(usize, Point)> = (0..300 * 240)
-        .map(|i| {
-            (
-                i,
-                p(
-                    (i % 300) as Real * 1.5,
-                    (i / 300) as Real,
-                    ((i * 7) % 5) as Real * 1e-3,
-                ),
-            )
-        })
-        .collect();
-    let build = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            let items: Vec<usize> = cloud.iter().map(|(i, _)| *i).collect();
-            let points: Vec<Point> = cloud.iter().map(|(_, x)| *x).collect();
-            let tree = KdTree::from_parts(items, points, 4, 0).unwrap();
-            (tree.nodes, tree.items, tree.points)
-        })
-    };
-    let one = build(1);
-    assert_eq!(build(4), one);
-    assert_eq!(build(5), one);
-}
-
 #[test]
 fn parallel_halves_build_the_serial_arena() {
     for (cloud, bucket) in [(lcg_cloud(3000, 7), 4), (irregular_cloud(2500), 3)] {
@@ -545,16 +511,12 @@ fn deferred_subtrees_give_the_built_tree() {
     }
 }
 
-/// The block-listing quickselect and the parallel passes make Kratos' swaps: the same
-/// permutation as the scalar quickselect for every target position, on inputs with many ties,
-/// sorted, reversed, constant runs and rows in grid order, of sizes around the scan block, on
-/// pools of one and three threads: on the points' values and on a column of them, with
-/// parallel passes from every size on (chunks of 1, 3 and 64 positions, tasks of 1 and 5
-/// swaps) and from none.
+/// The block-listing quickselect makes Kratos' swaps: the same permutation as the scalar
+/// quickselect for every target position, on inputs with many ties, sorted, reversed and
+/// constant runs, of sizes around the scan block.
 #[test]
 fn block_select_is_the_scalar_quickselect() {
-    use super::build::Entries;
-    use super::select::{SelectSizes, select_with};
+    use super::build::{Entries, select_blocks};
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
     let mut next = move |k: u64| {
         state = state
@@ -571,34 +533,7 @@ fn block_select_is_the_scalar_quickselect() {
         cases.push((0..n).map(|i| -(i as Real)).collect());
         cases.push(vec![1.5; n]);
         cases.push((0..n).map(|i| ((i * 37) % 11) as Real).collect());
-        cases.push(
-            (0..n)
-                .map(|i| (i % 23) as Real + (i / 23) as Real * 1e-3)
-                .collect(),
-        );
     }
-    let sizes = |keyed_min, parallel_min, chunk, swap_task| SelectSizes {
-        keyed_min,
-        parallel_min,
-        chunk,
-        swap_task,
-    };
-    let serial = [sizes(usize::MAX, 1, 1, 1), sizes(1, usize::MAX, 1, 1)];
-    let sizes = [
-        sizes(1, 1, 1, 1),
-        sizes(2, 2, 3, 5),
-        sizes(1, 1, 64, 1),
-        sizes(50, 100, 3, 1),
-    ];
-    let pools: Vec<rayon::ThreadPool> = [1, 3]
-        .iter()
-        .map(|&n| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .unwrap()
-        })
-        .collect();
     for values in cases {
         let n = values.len();
         let targets: Vec<usize> = if n <= 130 {
@@ -608,7 +543,7 @@ fn block_select_is_the_scalar_quickselect() {
         };
         for m in targets {
             for axis in [0, 2] {
-                let run = |how: Option<SelectSizes>| {
+                let run = |block: bool| {
                     let mut items: Vec<usize> = (0..n).collect();
                     let mut points: Vec<Point> = values
                         .iter()
@@ -623,28 +558,14 @@ fn block_select_is_the_scalar_quickselect() {
                         points: &mut points,
                         base: 0,
                     };
-                    match how {
-                        Some(sizes) => select_with(&mut entries, m, axis, sizes),
-                        None => select(&mut entries, m, axis),
+                    if block {
+                        select_blocks(&mut entries, m, axis);
+                    } else {
+                        select(&mut entries, m, axis);
                     }
-                    (items, points)
+                    items
                 };
-                let oracle = run(None);
-                for sizes in serial {
-                    let got = run(Some(sizes));
-                    assert_eq!(got, oracle, "n {n}, m {m}, {sizes:?}, values {values:?}");
-                }
-                for (pool, &sizes) in pools
-                    .iter()
-                    .zip(&sizes)
-                    .chain(pools.iter().skip(1).zip(&sizes))
-                {
-                    let got = pool.install(|| run(Some(sizes)));
-                    assert_eq!(
-                        got, oracle,
-                        "n {n}, m {m}, sizes {sizes:?}, values {values:?}"
-                    );
-                }
+                assert_eq!(run(true), run(false), "n {n}, m {m}, values {values:?}");
             }
         }
     }
@@ -652,7 +573,7 @@ fn block_select_is_the_scalar_quickselect() {
 
 /// Kratos' Hoare-style quickselect on `axis` over the whole range: afterwards position `m` holds the
 /// value it would hold in sorted order, everything before it is `<=` and everything after it
-/// `>=` (reference §6.1): Kratos' loop as written, the oracle of `select::select_with`.
+/// `>=` (reference §6.1): Kratos' loop as written, the oracle of `select_blocks`.
 fn select<T>(entries: &mut super::build::Entries<'_, T>, m: usize, axis: usize) {
     let mut left = 0;
     let mut right = entries.len() - 1;
