@@ -235,14 +235,32 @@ const SCAN_BLOCK: usize = 64;
 /// last two stops were never swapped, so listing them from their current values finds the
 /// scans' stops; past it, a listed position only decides that the pass ends, which it does
 /// whatever the value there (a swapped position stops either scan).
+///
+/// A range of at least [`SUMMARY_MIN`] positions whose pass ends within a sixteenth of either
+/// end (a mesh's centres in grid order make dozens of such passes, each taking a row's ends)
+/// keeps, from then on, bounds of the values of every aligned block of [`SCAN_BLOCK`]
+/// positions, widened at every swap: a scan passes a block without a possible stop (all
+/// values below the pivot for the left scan, above it for the right) without listing it.
+/// The bounds only widen, so a passed block has no stop: the same stops, the same swaps.
 pub(super) fn select_blocks<T>(entries: &mut Entries<'_, T>, m: usize, axis: usize) {
+    select_blocks_with(entries, m, axis, SUMMARY_MIN);
+}
+
+/// [`select_blocks`] with the smallest range that keeps block bounds.
+pub(super) fn select_blocks_with<T>(
+    entries: &mut Entries<'_, T>,
+    m: usize,
+    axis: usize,
+    summary_min: usize,
+) {
     let mut left = 0;
     let mut right = entries.len() - 1;
     let mut lbuf = [0usize; SCAN_BLOCK];
     let mut rbuf = [0usize; SCAN_BLOCK];
+    let mut bounds = BlockBounds::default();
     while left < right {
         if entries.v(left, axis) > entries.v(right, axis) {
-            entries.swap(left, right);
+            bounds.swap(entries, (left, right), axis);
         }
         let pivot = entries.v(left, axis);
         // Next position to list on each side, and the listed stops not yet paired.
@@ -252,10 +270,12 @@ pub(super) fn select_blocks<T>(entries: &mut Entries<'_, T>, m: usize, axis: usi
         let mut last_l = left;
         let j = loop {
             if lbeg == lend {
-                // `v(right) >= pivot`: the list ends there at the latest.
+                // `v(right) >= pivot`: the list ends there at the latest (and its block is
+                // never passed).
                 lbeg = 0;
                 lend = 0;
-                let stop = (lnext + SCAN_BLOCK).min(right + 1);
+                lnext = bounds.pass_below(lnext, pivot, right);
+                let stop = ((lnext / SCAN_BLOCK + 1) * SCAN_BLOCK).min(right + 1);
                 for p in lnext..stop {
                     lbuf[lend] = p;
                     lend += usize::from(entries.v(p, axis) >= pivot);
@@ -263,10 +283,13 @@ pub(super) fn select_blocks<T>(entries: &mut Entries<'_, T>, m: usize, axis: usi
                 lnext = stop;
             }
             if rbeg == rend {
-                // `v(left) == pivot`: the list ends there at the latest.
+                // `v(left) == pivot`: the list ends there at the latest (and its block is
+                // never passed).
                 rbeg = 0;
                 rend = 0;
-                let stop = (rnext - SCAN_BLOCK as isize).max(left as isize - 1);
+                rnext = bounds.pass_above(rnext, pivot, left);
+                let block_start = (rnext as usize / SCAN_BLOCK * SCAN_BLOCK) as isize;
+                let stop = (block_start - 1).max(left as isize - 1);
                 let mut p = rnext;
                 while p > stop {
                     rbuf[rend] = p as usize;
@@ -281,7 +304,7 @@ pub(super) fn select_blocks<T>(entries: &mut Entries<'_, T>, m: usize, axis: usi
             }
             let (l, r) = (lbuf[lbeg], rbuf[rbeg]);
             if l < r {
-                entries.swap(l, r);
+                bounds.swap(entries, (l, r), axis);
                 last_l = l;
                 lbeg += 1;
                 rbeg += 1;
@@ -289,7 +312,11 @@ pub(super) fn select_blocks<T>(entries: &mut Entries<'_, T>, m: usize, axis: usi
                 break r.max(last_l);
             }
         };
-        entries.swap(left, j);
+        bounds.swap(entries, (left, j), axis);
+        let n = right - left + 1;
+        if bounds.is_empty() && n >= summary_min && (j - left).min(right - j) < n / 16 {
+            bounds = BlockBounds::of(entries, axis);
+        }
         if j > m {
             right = j - 1;
         } else if j < m {
@@ -297,6 +324,78 @@ pub(super) fn select_blocks<T>(entries: &mut Entries<'_, T>, m: usize, axis: usi
         } else {
             break;
         }
+    }
+}
+
+/// The smallest range of [`select_blocks`] that keeps block bounds after a lopsided pass.
+const SUMMARY_MIN: usize = 4_096;
+
+/// Per aligned block of [`SCAN_BLOCK`] positions, a lower and an upper bound of its values
+/// (empty: none kept).
+#[derive(Default)]
+struct BlockBounds {
+    lo: Vec<Real>,
+    hi: Vec<Real>,
+}
+
+impl BlockBounds {
+    /// The blocks' least and greatest values on `axis`.
+    fn of<T>(entries: &Entries<'_, T>, axis: usize) -> BlockBounds {
+        let (lo, hi) = (entries.points.chunks(SCAN_BLOCK))
+            .map(|block| {
+                block
+                    .iter()
+                    .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), p| {
+                        (lo.min(p[axis]), hi.max(p[axis]))
+                    })
+            })
+            .unzip();
+        BlockBounds { lo, hi }
+    }
+
+    fn is_empty(&self) -> bool {
+        self.lo.is_empty()
+    }
+
+    /// Swaps positions `i` and `j`, widening their blocks' bounds to their new values.
+    fn swap<T>(&mut self, entries: &mut Entries<'_, T>, (i, j): (usize, usize), axis: usize) {
+        entries.swap(i, j);
+        if self.is_empty() {
+            return;
+        }
+        for p in [i, j] {
+            let (v, b) = (entries.v(p, axis), p / SCAN_BLOCK);
+            self.lo[b] = self.lo[b].min(v);
+            self.hi[b] = self.hi[b].max(v);
+        }
+    }
+
+    /// The left scan's next position from `next`: past every whole block starting there whose
+    /// values are all below `pivot`, before the block of `right` (whose value is at least the
+    /// pivot: the scan ends there whatever the bounds say).
+    fn pass_below(&self, mut next: usize, pivot: Real, right: usize) -> usize {
+        while next.is_multiple_of(SCAN_BLOCK)
+            && next + SCAN_BLOCK <= right
+            && self.hi.get(next / SCAN_BLOCK).is_some_and(|&h| h < pivot)
+        {
+            next += SCAN_BLOCK;
+        }
+        next
+    }
+
+    /// The right scan's next position from `next` (descending): past every whole block ending
+    /// there whose values are all above `pivot`, after the block of `left`.
+    fn pass_above(&self, mut next: isize, pivot: Real, left: usize) -> isize {
+        while next >= (left + SCAN_BLOCK) as isize
+            && next as usize % SCAN_BLOCK == SCAN_BLOCK - 1
+            && self
+                .lo
+                .get(next as usize / SCAN_BLOCK)
+                .is_some_and(|&l| l > pivot)
+        {
+            next -= SCAN_BLOCK as isize;
+        }
+        next
     }
 }
 

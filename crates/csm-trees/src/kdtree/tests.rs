@@ -512,11 +512,13 @@ fn deferred_subtrees_give_the_built_tree() {
 }
 
 /// The block-listing quickselect makes Kratos' swaps: the same permutation as the scalar
-/// quickselect for every target position, on inputs with many ties, sorted, reversed and
-/// constant runs, of sizes around the scan block.
+/// quickselect for every target position, on inputs with many ties, sorted, reversed,
+/// constant runs and rows in grid order (lopsided passes), of sizes around the scan block, with
+/// block bounds kept from the first lopsided pass of any range, of 64 positions on and of
+/// the default size on.
 #[test]
 fn block_select_is_the_scalar_quickselect() {
-    use super::build::{Entries, select_blocks};
+    use super::build::{Entries, select_blocks, select_blocks_with};
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
     let mut next = move |k: u64| {
         state = state
@@ -525,7 +527,9 @@ fn block_select_is_the_scalar_quickselect() {
         (state >> 33) % k
     };
     let mut cases: Vec<Vec<Real>> = Vec::new();
-    for n in [1, 2, 3, 4, 5, 7, 63, 64, 65, 127, 128, 129, 200, 1000, 3001] {
+    for n in [
+        1, 2, 3, 4, 5, 7, 63, 64, 65, 127, 128, 129, 200, 1000, 3001, 5000,
+    ] {
         for levels in [2, 5, 1000, 1 << 30] {
             cases.push((0..n).map(|_| next(levels) as Real).collect());
         }
@@ -533,6 +537,14 @@ fn block_select_is_the_scalar_quickselect() {
         cases.push((0..n).map(|i| -(i as Real)).collect());
         cases.push(vec![1.5; n]);
         cases.push((0..n).map(|i| ((i * 37) % 11) as Real).collect());
+        for row in [7, 70, 71] {
+            cases.push(
+                (0..n)
+                    .map(|i| (i % row) as Real + (i / row) as Real * 1e-3)
+                    .collect(),
+            );
+            cases.push((0..n).map(|i| ((i % row) * 3 % row) as Real).collect());
+        }
     }
     for values in cases {
         let n = values.len();
@@ -543,7 +555,8 @@ fn block_select_is_the_scalar_quickselect() {
         };
         for m in targets {
             for axis in [0, 2] {
-                let run = |block: bool| {
+                // 0: the scalar oracle; 1: the default; 2, 3: bounds from 1 and 64 positions.
+                let run = |how: usize| {
                     let mut items: Vec<usize> = (0..n).collect();
                     let mut points: Vec<Point> = values
                         .iter()
@@ -558,14 +571,18 @@ fn block_select_is_the_scalar_quickselect() {
                         points: &mut points,
                         base: 0,
                     };
-                    if block {
-                        select_blocks(&mut entries, m, axis);
-                    } else {
-                        select(&mut entries, m, axis);
+                    match how {
+                        0 => select(&mut entries, m, axis),
+                        1 => select_blocks(&mut entries, m, axis),
+                        2 => select_blocks_with(&mut entries, m, axis, 1),
+                        _ => select_blocks_with(&mut entries, m, axis, 64),
                     }
-                    items
+                    (items, points)
                 };
-                assert_eq!(run(true), run(false), "n {n}, m {m}, values {values:?}");
+                let oracle = run(0);
+                for how in 1..=3 {
+                    assert_eq!(run(how), oracle, "n {n}, m {m}, {how}, values {values:?}");
+                }
             }
         }
     }
