@@ -539,15 +539,31 @@ fn kept_face_normals_map_as_computed_ones() {
     }
 }
 
-/// The known gaps' cursor finds what a binary search over every entry finds, for lookups in
-/// key order (its fast path), backwards, at random, repeated and absent.
+/// The known gaps' cursor finds what a map of every entry finds, for lookups in key order
+/// (its fast path), backwards, at random, repeated and absent; with the entries in one run,
+/// in runs of many sizes (the mapping's tasks'), and in runs whose keys interleave (merged).
 #[test]
-fn known_gaps_cursor_answers_as_a_binary_search() {
-    use crate::weighted_gap::KnownGap;
+fn known_gaps_cursor_answers_as_a_map_of_the_entries() {
+    use crate::weighted_gap::{KnownGap, KnownGaps};
+    use std::collections::BTreeMap;
     let key = |i: u32| (ConditionIdx(i / 5), ConditionIdx(i % 5 * 3));
-    // Every third key of 0..3000 is known, entered out of order.
-    let entries: Vec<KnownGap> = (0..1000u32).rev().map(|i| (key(3 * i), Ok(None))).collect();
-    let known = crate::weighted_gap::KnownGaps::new(entries);
+    // Every third key of 0..3000 is known, each with its own value (an error naming it).
+    let entry = |i: u32| -> KnownGap { (key(3 * i), Err(Error::message_only(format!("{i}")))) };
+    let oracle: BTreeMap<_, _> = (0..1000u32).map(|i| (key(3 * i), entry(i).1)).collect();
+    // Runs in key order, each entered out of order: sizes 1, 2, …, 44 (then what is left).
+    let mut in_runs = Vec::new();
+    let (mut next, mut size) = (0u32, 1u32);
+    while next < 1000 {
+        let end = (next + size).min(1000);
+        in_runs.push((next..end).rev().map(entry).collect::<Vec<_>>());
+        (next, size) = (end, size + 1);
+    }
+    in_runs.insert(3, Vec::new());
+    // Seven runs whose keys interleave: entry `i` in run `i % 7`.
+    let interleaved: Vec<Vec<KnownGap>> = (0..7u32)
+        .map(|r| (0..1000u32).filter(|i| i % 7 == r).map(entry).collect())
+        .collect();
+    let one_run = vec![(0..1000u32).rev().map(entry).collect::<Vec<_>>()];
     let mut state = 0x853C_49E6_748F_EA9Bu64;
     let mut random = move || {
         state ^= state << 13;
@@ -559,26 +575,37 @@ fn known_gaps_cursor_answers_as_a_binary_search() {
     let descending: Vec<u32> = (0..3100).rev().collect();
     let scattered: Vec<u32> = (0..5000).map(|_| random()).collect();
     let repeated = vec![42, 42, 43, 0, 0, 2999, 3099, 3];
-    let (mut hits, mut misses) = (0, 0);
-    for queries in [ascending, descending, scattered, repeated] {
-        let mut cursor = known.cursor();
-        for &q in &queries {
-            let (s, m) = key(q);
-            let expected = known.get(s, m);
-            let got = cursor.get(s, m);
-            assert_eq!(
-                expected.map(std::ptr::from_ref),
-                got.map(std::ptr::from_ref),
-                "{q}"
-            );
-            if got.is_some() {
-                hits += 1;
-            } else {
-                misses += 1;
+    // Within each slave, its masters backwards (ids need not follow indices).
+    let slave_backwards: Vec<u32> = (0..3100).map(|q| q / 5 * 5 + 4 - q % 5).collect();
+    for runs in [one_run, in_runs, interleaved] {
+        let known = KnownGaps::from_runs(runs);
+        assert_eq!(known.len(), 1000);
+        let (mut hits, mut misses) = (0, 0);
+        for queries in [
+            &ascending,
+            &descending,
+            &scattered,
+            &repeated,
+            &slave_backwards,
+        ] {
+            let mut cursor = known.cursor();
+            for &q in queries {
+                let (s, m) = key(q);
+                let expected = oracle.get(&(s, m));
+                let got = cursor.get(s, m);
+                assert_eq!(got, expected, "{q}");
+                assert_eq!(known.get(s, m), expected, "{q}");
+                if got.is_some() {
+                    hits += 1;
+                } else {
+                    misses += 1;
+                }
             }
         }
+        assert!(hits > 3000 && misses > 6000, "{hits} hits, {misses} misses");
+        let entries: Vec<_> = known.entries().into_iter().map(|(k, _)| *k).collect();
+        assert_eq!(entries, oracle.keys().copied().collect::<Vec<_>>());
     }
-    assert!(hits > 2000 && misses > 4000, "{hits} hits, {misses} misses");
 }
 
 /// The mapping that keeps the master values' products in place of `M` maps as the one that

@@ -44,43 +44,40 @@ pub fn compute_weighted_gap(
         mode,
         distance_threshold,
     };
-    // The contributions the mapping did not compute, in parallel; every contribution is
-    // added below in pair order (Kratos' sums), the known ones read where they are.
+    // Every pair's contribution, in pair order, looked up in parallel (the sums below then
+    // only add); those the mapping did not compute are computed, in parallel too. Every
+    // contribution is added below in pair order (Kratos' sums).
     let m = &*model;
     let known = known.unwrap_or_default();
     // (The pairs come mostly in key order: each task looks them up with its own cursor.)
+    type Contribution = Result<Option<PairGap>, Error>;
+    let looked: Vec<Option<&Contribution>> = (pairs.par_iter())
+        .map_init(|| known.cursor(), |cursor, &(sc, mc)| cursor.get(sc, mc))
+        .collect();
     // Only the pairs the mapping did not compute are listed, with their positions (usually
     // none: a list of every pair's possible contribution would be as long as the pairs'
     // contributions, all of them untouched memory to fault in).
-    let computed: Vec<(usize, Result<Option<PairGap>, Error>)> = (pairs.par_iter().enumerate())
-        .map_init(
-            || known.cursor(),
-            |cursor, (k, &(sc, mc))| {
-                let unknown = cursor.get(sc, mc).is_none();
-                unknown.then(|| (k, pair_weighted_gap(m, sc, mc, &seg_settings, dim)))
-            },
-        )
-        .flatten_iter()
-        .collect();
-    // Every pair's contribution, in pair order (looked up in parallel: the sums below then
-    // only add).
-    let contributions: Vec<&Result<Option<PairGap>, Error>> = (pairs.par_iter().enumerate())
-        .map_init(
-            || known.cursor(),
-            |cursor, (k, &(sc, mc))| {
-                cursor
-                    .get(sc, mc)
-                    .or_else(|| {
-                        let at = computed.binary_search_by_key(&k, |(k, _)| *k).ok()?;
-                        Some(&computed[at].1)
-                    })
-                    .expect("one contribution per pair, known or computed")
-            },
-        )
-        .collect();
+    let computed: Vec<(usize, Contribution)> = if looked.par_iter().any(Option::is_none) {
+        (pairs.par_iter().zip(&looked).enumerate())
+            .filter(|(_, (_, known))| known.is_none())
+            .map(|(k, (&(sc, mc), _))| (k, pair_weighted_gap(m, sc, mc, &seg_settings, dim)))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let contribution = |k: usize| -> &Contribution {
+        looked[k].unwrap_or_else(|| {
+            let at = computed.binary_search_by_key(&k, |(k, _)| *k);
+            &computed[at.expect("one contribution per pair, known or computed")].1
+        })
+    };
     // The first error in pair order, before anything is written (the model's values stay
     // as they were on an error).
-    if let Some(Err(e)) = contributions.iter().find(|c| c.is_err()) {
+    if let Some(k) = (0..pairs.len())
+        .into_par_iter()
+        .find_first(|&k| contribution(k).is_err())
+        && let Err(e) = contribution(k)
+    {
         return Err(e.clone());
     }
     // Summed in place: the sub's nodes start at zero, then every contribution in pair order.
@@ -88,7 +85,8 @@ pub fn compute_weighted_gap(
     model.with_scalar_mut(ScalarVar::WeightedGap, 0, |m, wg| {
         let nodes = m.part(sub).nodes();
         csm_model::write_at_ascending(wg, nodes.len(), |k| nodes[k].index(), |_, w| *w = 0.0);
-        for (&(sc, _), contribution) in pairs.iter().zip(&contributions) {
+        for (k, &(sc, _)) in pairs.iter().enumerate() {
+            let contribution = contribution(k);
             // (No error is left: the first one was returned above.)
             debug_assert!(contribution.is_ok(), "an error reached the sums");
             let pair = contribution.as_ref().ok().and_then(Option::as_ref);
@@ -101,11 +99,13 @@ pub fn compute_weighted_gap(
             }
         }
     });
+    drop(looked);
+    known.par_drop();
     Ok(isolated)
 }
 
 /// One pair's weighted-gap contribution per slave node (in node order).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct PairGap {
     len: usize,
     gaps: [Real; MAX_MORTAR_FACE_NODES],
@@ -123,27 +123,57 @@ pub(crate) type KnownGap = ((ConditionIdx, ConditionIdx), Result<Option<PairGap>
 /// Weighted-gap contributions computed by the mapping, by (slave, master) condition: the
 /// contribution, `None` for a pair without enough overlap (ISOLATED), or the error its
 /// computation gave (reported when the weighted gap reaches the pair, in pair order).
+///
+/// Kept as the runs the mapping's tasks wrote (one per task of slave conditions), not joined
+/// into one list: joining them was a copy of every entry on one thread, into fresh memory
+/// (blocks 1e5: 307k entries, 17–19 ms of the mapping at any thread count).
 #[derive(Debug, Default)]
 pub struct KnownGaps {
-    /// Sorted by key.
-    entries: Vec<KnownGap>,
+    /// Runs of entries, each sorted by key and not empty; every key of a run is below every
+    /// key of the next.
+    runs: Vec<Vec<KnownGap>>,
+    /// The number of entries.
+    len: usize,
 }
 
 impl KnownGaps {
-    pub(crate) fn new(mut entries: Vec<KnownGap>) -> KnownGaps {
+    /// The entries of one list.
+    #[cfg(test)]
+    pub(crate) fn new(entries: Vec<KnownGap>) -> KnownGaps {
+        KnownGaps::from_runs(vec![entries])
+    }
+
+    /// The entries of `runs` (the mapping's tasks', in the order of its slave conditions):
+    /// each run sorted, in parallel. Where the runs' keys then interleave (slave conditions
+    /// out of index order), every entry is merged into one sorted run.
+    pub(crate) fn from_runs(mut runs: Vec<Vec<KnownGap>>) -> KnownGaps {
+        runs.retain(|run| !run.is_empty());
         // Keys are unique: an unstable sort gives the same order, without a buffer.
-        entries.sort_unstable_by_key(|(key, _)| *key);
-        KnownGaps { entries }
+        (runs.par_iter_mut()).for_each(|run| run.sort_unstable_by_key(|(key, _)| *key));
+        let last = |run: &[KnownGap]| run[run.len() - 1].0;
+        if !runs.par_windows(2).all(|w| last(&w[0]) < w[1][0].0) {
+            let mut all: Vec<KnownGap> = runs.into_iter().flatten().collect();
+            all.sort_unstable_by_key(|(key, _)| *key);
+            runs = vec![all];
+        }
+        let len = runs.iter().map(Vec::len).sum();
+        KnownGaps { runs, len }
     }
 
     /// The number of pairs.
     pub fn len(&self) -> usize {
-        self.entries.len()
+        self.len
     }
 
     /// Whether no pair is known.
     pub fn is_empty(&self) -> bool {
-        self.entries.is_empty()
+        self.len == 0
+    }
+
+    /// The run that holds `key` if any run does: the first whose last key is not below it
+    /// (`runs.len()` when none is).
+    fn run_of(&self, key: (ConditionIdx, ConditionIdx)) -> usize {
+        (self.runs).partition_point(|run| run[run.len() - 1].0 < key)
     }
 
     /// The contribution of the pair `(slave, master)`, if known (the oracle of
@@ -154,25 +184,31 @@ impl KnownGaps {
         slave: ConditionIdx,
         master: ConditionIdx,
     ) -> Option<&Result<Option<PairGap>, Error>> {
-        let k = self
-            .entries
-            .binary_search_by_key(&(slave, master), |(key, _)| *key)
-            .ok()?;
-        Some(&self.entries[k].1)
+        let key = (slave, master);
+        let run = self.runs.get(self.run_of(key))?;
+        let k = run.binary_search_by_key(&key, |(key, _)| *key).ok()?;
+        Some(&run[k].1)
     }
 
     /// Every entry, by key.
     #[cfg(test)]
-    pub(crate) fn entries(&self) -> &[KnownGap] {
-        &self.entries
+    pub(crate) fn entries(&self) -> Vec<&KnownGap> {
+        self.runs.iter().flatten().collect()
     }
 
     /// A cursor for many lookups ([`KnownGapsCursor::get`]).
     pub(crate) fn cursor(&self) -> KnownGapsCursor<'_> {
         KnownGapsCursor {
             gaps: self,
+            run: 0,
             position: 0,
         }
+    }
+
+    /// Frees the entries, the runs in parallel (each entry's drop reads it: on one thread,
+    /// a pass over all of them).
+    pub(crate) fn par_drop(self) {
+        self.runs.into_par_iter().for_each(drop);
     }
 }
 
@@ -181,7 +217,9 @@ impl KnownGaps {
 /// (a cache miss per step on a large table).
 pub(crate) struct KnownGapsCursor<'a> {
     gaps: &'a KnownGaps,
-    /// Where the previous lookup ended (the entry found, or where it would be).
+    /// The run where the previous lookup ended, and its position there (the entry found, or
+    /// where it would be).
+    run: usize,
     position: usize,
 }
 
@@ -193,29 +231,49 @@ impl<'a> KnownGapsCursor<'a> {
         slave: ConditionIdx,
         master: ConditionIdx,
     ) -> Option<&'a Result<Option<PairGap>, Error>> {
-        let entries = &self.gaps.entries;
+        let runs = &self.gaps.runs;
         let key = (slave, master);
-        let search = |range: &'a [KnownGap]| range.binary_search_by_key(&key, |(k, _)| *k);
-        let start = self.position;
-        let found = if entries.get(start).is_some_and(|(k, _)| *k <= key) {
-            // Galloping forward: `entries[low]` is at most the key, `entries[high]` (if any)
-            // above it.
-            let (mut low, mut step) = (start, 1);
-            let mut high = start + 1;
-            while high < entries.len() && entries[high].0 <= key {
-                low = high;
-                step *= 2;
-                high = low + step;
+        // In the run of the previous lookup, from its position: a short search forward
+        // (lookups in key order) or back (a slave's masters by id need not be in index
+        // order). The runs' key ranges do not overlap, so a key inside this run's range and
+        // not found in it is not known.
+        if let Some(entries) = runs.get(self.run)
+            && entries[0].0 <= key
+        {
+            let found = match entries.get(self.position) {
+                Some((k, _)) if *k <= key => gallop(entries, self.position, key),
+                _ => entries[..self.position].binary_search_by_key(&key, |(k, _)| *k),
+            };
+            match found {
+                Ok(i) => {
+                    self.position = i;
+                    return Some(&entries[i].1);
+                }
+                Err(i) if i < entries.len() => {
+                    self.position = i;
+                    return None;
+                }
+                // (Past the run's last key: a later run's.)
+                Err(_) => {}
             }
-            let high = high.min(entries.len());
-            match search(&entries[low..high]) {
-                Ok(i) => Ok(low + i),
-                Err(i) => Err(low + i),
-            }
+        }
+        // The next run, or the one whose range would hold the key (a binary search of the
+        // runs), searched whole.
+        let next = self.run + 1;
+        let r = if runs
+            .get(next)
+            .is_some_and(|run| run[0].0 <= key && key <= run[run.len() - 1].0)
+        {
+            next
         } else {
-            search(entries)
+            self.gaps.run_of(key)
         };
-        match found {
+        self.run = r;
+        let Some(entries) = runs.get(r) else {
+            self.position = 0;
+            return None;
+        };
+        match entries.binary_search_by_key(&key, |(k, _)| *k) {
             Ok(i) => {
                 self.position = i;
                 Some(&entries[i].1)
@@ -225,6 +283,28 @@ impl<'a> KnownGapsCursor<'a> {
                 None
             }
         }
+    }
+}
+
+/// The position of `key` in `entries` (sorted by key), or where it would be, by a search
+/// forward from `start`, whose key is at most `key`: galloping, then a binary search.
+fn gallop(
+    entries: &[KnownGap],
+    start: usize,
+    key: (ConditionIdx, ConditionIdx),
+) -> Result<usize, usize> {
+    // `entries[low]` is at most the key, `entries[high]` (if any) above it.
+    let (mut low, mut step) = (start, 1);
+    let mut high = start + 1;
+    while high < entries.len() && entries[high].0 <= key {
+        low = high;
+        step *= 2;
+        high = low + step;
+    }
+    let high = high.min(entries.len());
+    match entries[low..high].binary_search_by_key(&key, |(k, _)| *k) {
+        Ok(i) => Ok(low + i),
+        Err(i) => Err(low + i),
     }
 }
 

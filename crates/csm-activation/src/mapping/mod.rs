@@ -406,11 +406,11 @@ fn normal_gap_process_inner(
         (segmented, gaps)
     } else {
         let mut per_slave = segment_slaves(m, &s.slave_conditions, &tasks)?;
-        let mut gaps = Vec::with_capacity(per_slave.iter().map(|m| m.gaps.len()).sum());
+        let mut gaps = Vec::with_capacity(per_slave.len());
         for mapped in &mut per_slave {
             report.kept += mapped.kept.len();
             report.removed.append(&mut mapped.removed);
-            gaps.append(&mut mapped.gaps);
+            gaps.push(std::mem::take(&mut mapped.gaps));
             standard.append(&mut mapped.standard);
             report.lost_projections += mapped.lost_projections;
         }
@@ -420,7 +420,7 @@ fn normal_gap_process_inner(
         };
         (segmented, gaps)
     };
-    let known = KnownGaps::new(gaps);
+    let known = KnownGaps::from_runs(gaps);
     for r in &report.removed {
         model.index_map_mut(r.slave).remove_id(r.master);
     }

@@ -21,8 +21,8 @@ pub(super) struct FirstIterations {
     pub(super) vaux: [Vec<Vector>; 2],
     /// `NODAL_AREA`: `D`'s diagonal summed over the kept pairs, by slave node.
     pub(super) area: Vec<Real>,
-    /// The weighted gap of the kept pairs, in slave order.
-    pub(super) gaps: Vec<KnownGap>,
+    /// The weighted gap of the kept pairs, in slave order: each task's run.
+    pub(super) gaps: Vec<Vec<KnownGap>>,
 }
 
 impl FirstIterations {
@@ -50,7 +50,7 @@ impl FirstIterations {
         standard.append(&mut mapped.standard);
         report.lost_projections += mapped.lost_projections;
         report.removed.append(&mut mapped.removed);
-        self.gaps.append(&mut mapped.gaps);
+        self.gaps.push(std::mem::take(&mut mapped.gaps));
     }
 }
 
