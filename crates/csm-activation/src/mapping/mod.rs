@@ -421,9 +421,7 @@ fn normal_gap_process_inner(
         (segmented, gaps)
     };
     let known = KnownGaps::from_runs(gaps);
-    for r in &report.removed {
-        model.index_map_mut(r.slave).remove_id(r.master);
-    }
+    segment::remove_entries(model.index_maps_mut(), &report.removed);
     let m = &*model;
     match &settings.ranks {
         None => {

@@ -7,7 +7,7 @@ use csm_geometry::{
     Segmentation, SegmentationSettings, SlaveSegmentation, dual_basis_in, integration_points,
     line_projections_lost_to_rounding, mortar_operators,
 };
-use csm_model::{ConditionId, ConditionIdx, ModelPart, Ranks};
+use csm_model::{ConditionId, ConditionIdx, IndexMap, ModelPart, Ranks};
 
 use rayon::prelude::*;
 
@@ -375,4 +375,54 @@ fn slave_gap_data(
     };
     let area = slave_area(model, sc, &data);
     (data, area)
+}
+
+/// Removed entries per task of [`remove_entries`], at least.
+const REMOVALS_PER_TASK: usize = 4096;
+
+/// Removes the `removed` entries from the INDEX_MAPs `maps` (every condition's, by index),
+/// each map's in the list's order. Where the list's slave conditions ascend (a part's
+/// conditions in index order, as usual), in parallel: the list is cut between two slaves'
+/// entries and the maps at the first slave after the cut, so each task holds the maps it
+/// changes, with no list of them to build; otherwise one pass in order.
+pub(super) fn remove_entries(maps: &mut [IndexMap], removed: &[RemovedEntry]) {
+    /// The entries `removed` from `maps`, whose first is condition `offset`'s map.
+    fn remove_in(maps: &mut [IndexMap], offset: usize, removed: &[RemovedEntry]) {
+        let n = removed.len();
+        let slave_at = |k: usize| removed[k].slave;
+        // The cut: the middle moved on to the first entry of the next slave, or where one
+        // slave's entries run to the end, back to the first of the middle's slave.
+        let mut cut = n / 2;
+        if n > REMOVALS_PER_TASK {
+            while cut < n && slave_at(cut) == slave_at(cut - 1) {
+                cut += 1;
+            }
+            if cut == n {
+                cut = n / 2;
+                while cut > 0 && slave_at(cut) == slave_at(cut - 1) {
+                    cut -= 1;
+                }
+            }
+        }
+        if n <= REMOVALS_PER_TASK || cut == 0 {
+            for r in removed {
+                maps[r.slave.index() - offset].remove_id(r.master);
+            }
+            return;
+        }
+        let (left, right) = removed.split_at(cut);
+        let (left_maps, right_maps) = maps.split_at_mut(right[0].slave.index() - offset);
+        let split = offset + left_maps.len();
+        rayon::join(
+            || remove_in(left_maps, offset, left),
+            || remove_in(right_maps, split, right),
+        );
+    }
+    if removed.par_windows(2).all(|w| w[0].slave <= w[1].slave) {
+        remove_in(maps, 0, removed);
+    } else {
+        for r in removed {
+            maps[r.slave.index()].remove_id(r.master);
+        }
+    }
 }

@@ -222,3 +222,59 @@ fn robust_weighted_gap_is_the_same_far_from_the_origin() {
         .fold(0.0, Real::max);
     assert!(worst > 1e-10, "{kratos:?}");
 }
+
+/// The removals in parallel leave every INDEX_MAP as the serial loop over the list does: slave
+/// conditions ascending (cut between slaves, one slave with entries across several cuts, maps
+/// without removals between), out of order (the serial pass), on pools of 1–3 threads.
+#[test]
+fn removals_in_parallel_leave_the_maps_of_the_serial_loop() {
+    // 3,000 conditions, condition c with masters 1..=(c % 9 + 1), and condition 1,500 with
+    // 20,000 (more than a task's removals alone).
+    let maps: Vec<csm_model::IndexMap> = (0..3000u32)
+        .map(|c| {
+            let mut map = csm_model::IndexMap::new();
+            let n = if c == 1500 { 20_000 } else { c % 9 + 1 };
+            for master in 1..=n {
+                map.add_id(ConditionId(master));
+            }
+            map
+        })
+        .collect();
+    // Every third condition loses its odd masters (and a master it does not hold), in
+    // descending master order for a few; condition 1,500 loses every odd one.
+    let mut ascending = Vec::new();
+    for c in (0..3000u32).filter(|c| c % 3 == 0 || *c == 1500) {
+        let n = if c == 1500 { 20_000 } else { c % 9 + 1 };
+        let mut masters: Vec<u32> = (1..=n + 1).filter(|m| m % 2 == 1).collect();
+        if c % 4 == 0 {
+            masters.reverse();
+        }
+        ascending.extend(masters.into_iter().map(|m| RemovedEntry {
+            slave: ConditionIdx(c),
+            master: ConditionId(m),
+            paired: None,
+        }));
+    }
+    let mut scrambled = ascending.clone();
+    scrambled.swap(10, 12_000);
+    let serial = |removed: &[RemovedEntry]| {
+        let mut maps = maps.clone();
+        for r in removed {
+            maps[r.slave.index()].remove_id(r.master);
+        }
+        maps
+    };
+    for removed in [&ascending, &scrambled] {
+        let expected = serial(removed);
+        assert!(expected.iter().zip(&maps).filter(|(a, b)| a != b).count() > 900);
+        for threads in [1, 2, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut got = maps.clone();
+            pool.install(|| segment::remove_entries(&mut got, removed));
+            assert!(got == expected, "{threads} threads");
+        }
+    }
+}
