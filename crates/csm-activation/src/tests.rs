@@ -292,6 +292,26 @@ fn weighted_gap_error_is_the_first_in_pair_order_and_leaves_the_values() {
     let again = compute_weighted_gap(&mut m, sub, &good, settings, 3, Some(known)).unwrap_err();
     assert_eq!(again.to_string(), e.to_string());
     unchanged(&m);
+    // Recorded and computed errors together: the first in pair order, whichever it is, and
+    // of two recorded ones the first in pair order, not in key order.
+    let known_with = |errors: &[((ConditionIdx, ConditionIdx), &str)]| {
+        let entries = errors
+            .iter()
+            .map(|&(key, message)| (key, Err(Error::message_only(message.to_string()))));
+        Some(crate::weighted_gap::KnownGaps::new(entries.collect()))
+    };
+    let mut first = |pairs: &[(ConditionIdx, ConditionIdx)], known| {
+        let e = compute_weighted_gap(&mut m, sub, pairs, settings, 3, known).unwrap_err();
+        e.to_string()
+    };
+    let before_computed = known_with(&[(pairs[0], "recorded 0"), (pairs[3], "recorded 3")]);
+    assert!(first(&pairs, before_computed).contains("recorded 0"));
+    let after_computed = known_with(&[(pairs[3], "recorded 3")]);
+    assert!(first(&pairs, after_computed).contains("condition 5"));
+    let reversed = [pairs[3], pairs[0]];
+    let both = known_with(&[(pairs[0], "recorded 0"), (pairs[3], "recorded 3")]);
+    assert!(first(&reversed, both).contains("recorded 3"));
+    unchanged(&m);
     // Without the flat faces and the recorded error, the same pairs give values.
     compute_weighted_gap(&mut m, sub, &good, settings, 3, None).unwrap();
     let wg = m.nodal_data().scalar(ScalarVar::WeightedGap, 0).unwrap();

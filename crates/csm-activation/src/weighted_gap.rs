@@ -9,6 +9,8 @@ use csm_geometry::{
 use csm_geometry::{Geometry, MAX_MORTAR_FACE_NODES, MortarFace, Segmentation};
 use csm_model::{ConditionIdx, ModelPart, PartIdx, ScalarVar};
 use rayon::prelude::*;
+use std::sync::atomic::Ordering::Relaxed;
+use std::sync::atomic::{AtomicBool, AtomicUsize};
 
 use crate::error::Error;
 use crate::face::{FaceData, face_data, make_face};
@@ -50,14 +52,28 @@ pub fn compute_weighted_gap(
     let m = &*model;
     let known = known.unwrap_or_default();
     // (The pairs come mostly in key order: each task looks them up with its own cursor.)
+    // The lookups also note whether a pair is not known and the first known error (the
+    // smallest position: the same whatever the order of the notes).
     type Contribution = Result<Option<PairGap>, Error>;
-    let looked: Vec<Option<&Contribution>> = (pairs.par_iter())
-        .map_init(|| known.cursor(), |cursor, &(sc, mc)| cursor.get(sc, mc))
+    let (unknown, first_error) = (AtomicBool::new(false), AtomicUsize::new(usize::MAX));
+    let looked: Vec<Option<&Contribution>> = (pairs.par_iter().enumerate())
+        .map_init(
+            || known.cursor(),
+            |cursor, (k, &(sc, mc))| {
+                let found = cursor.get(sc, mc);
+                match found {
+                    None => unknown.store(true, Relaxed),
+                    Some(Err(_)) => drop(first_error.fetch_min(k, Relaxed)),
+                    Some(Ok(_)) => {}
+                }
+                found
+            },
+        )
         .collect();
     // Only the pairs the mapping did not compute are listed, with their positions (usually
     // none: a list of every pair's possible contribution would be as long as the pairs'
     // contributions, all of them untouched memory to fault in).
-    let computed: Vec<(usize, Contribution)> = if looked.par_iter().any(Option::is_none) {
+    let computed: Vec<(usize, Contribution)> = if unknown.into_inner() {
         (pairs.par_iter().zip(&looked).enumerate())
             .filter(|(_, (_, known))| known.is_none())
             .map(|(k, (&(sc, mc), _))| (k, pair_weighted_gap(m, sc, mc, &seg_settings, dim)))
@@ -65,21 +81,25 @@ pub fn compute_weighted_gap(
     } else {
         Vec::new()
     };
+    // The first error in pair order, known or computed, before anything is written (the
+    // model's values stay as they were on an error).
+    let known_error = first_error.into_inner();
+    let computed_error = computed.iter().find(|(_, c)| c.is_err());
+    match computed_error {
+        Some((k, Err(e))) if *k < known_error => return Err(e.clone()),
+        _ if known_error < pairs.len() => {
+            if let Some(Err(e)) = looked[known_error] {
+                return Err(e.clone());
+            }
+        }
+        _ => {}
+    }
     let contribution = |k: usize| -> &Contribution {
         looked[k].unwrap_or_else(|| {
             let at = computed.binary_search_by_key(&k, |(k, _)| *k);
             &computed[at.expect("one contribution per pair, known or computed")].1
         })
     };
-    // The first error in pair order, before anything is written (the model's values stay
-    // as they were on an error).
-    if let Some(k) = (0..pairs.len())
-        .into_par_iter()
-        .find_first(|&k| contribution(k).is_err())
-        && let Err(e) = contribution(k)
-    {
-        return Err(e.clone());
-    }
     // Summed in place: the sub's nodes start at zero, then every contribution in pair order.
     let mut isolated = Vec::with_capacity(pairs.len());
     model.with_scalar_mut(ScalarVar::WeightedGap, 0, |m, wg| {
