@@ -390,7 +390,7 @@ fn normal_gap_process_inner(
     // their owners computed them: a distributed run iterates over the kept operators.
     let streamed =
         settings.ranks.is_none() && streams(m, &s, &slaves, tasks.store, &settings.tuning);
-    let (segmented, gaps) = if streamed {
+    let (segmented, gaps, removed) = if streamed {
         let mut first = stream_first_iterations(
             m,
             &s,
@@ -399,17 +399,19 @@ fn normal_gap_process_inner(
             (&mut report, &mut standard),
         )?;
         let gaps = std::mem::take(&mut first.gaps);
+        let removed = std::mem::take(&mut first.removed);
         let segmented = Segmented {
             first: Some(first),
             per_slave: None,
         };
-        (segmented, gaps)
+        (segmented, gaps, removed)
     } else {
         let mut per_slave = segment_slaves(m, &s.slave_conditions, &tasks)?;
         let mut gaps = Vec::with_capacity(per_slave.len());
+        let mut removed = Vec::with_capacity(per_slave.len());
         for mapped in &mut per_slave {
             report.kept += mapped.kept.len();
-            report.removed.append(&mut mapped.removed);
+            removed.push(std::mem::take(&mut mapped.removed));
             gaps.push(std::mem::take(&mut mapped.gaps));
             standard.append(&mut mapped.standard);
             report.lost_projections += mapped.lost_projections;
@@ -418,8 +420,10 @@ fn normal_gap_process_inner(
             first: None,
             per_slave: Some(kept_only(per_slave)),
         };
-        (segmented, gaps)
+        (segmented, gaps, removed)
     };
+    report.removed = segment::concat_runs(&removed);
+    drop(removed);
     let known = KnownGaps::from_runs(gaps);
     segment::remove_entries(model.index_maps_mut(), &report.removed);
     let m = &*model;

@@ -8,7 +8,7 @@ use csm_model::{ConditionIdx, ModelPart, NodeIdx};
 use super::iterate::{Residual, add_area};
 use super::segment::{OperatorStore, Segmenting, SlaveMapping, kept_pairs, segment_slaves};
 use super::sides::{Sides, SlavePositions};
-use super::{AREA_TOLERANCE, MappingReport};
+use super::{AREA_TOLERANCE, MappingReport, RemovedEntry};
 use crate::error::Error;
 use crate::weighted_gap::KnownGap;
 
@@ -23,6 +23,8 @@ pub(super) struct FirstIterations {
     pub(super) area: Vec<Real>,
     /// The weighted gap of the kept pairs, in slave order: each task's run.
     pub(super) gaps: Vec<Vec<KnownGap>>,
+    /// The removed entries, in slave order: each task's run.
+    pub(super) removed: Vec<Vec<RemovedEntry>>,
 }
 
 impl FirstIterations {
@@ -35,6 +37,7 @@ impl FirstIterations {
             ],
             area: vec![0.0; n_slaves],
             gaps: Vec::new(),
+            removed: Vec::new(),
         }
     }
 
@@ -49,7 +52,7 @@ impl FirstIterations {
         report.kept += mapped.kept.len();
         standard.append(&mut mapped.standard);
         report.lost_projections += mapped.lost_projections;
-        report.removed.append(&mut mapped.removed);
+        self.removed.push(std::mem::take(&mut mapped.removed));
         self.gaps.push(std::mem::take(&mut mapped.gaps));
     }
 }
