@@ -59,4 +59,4 @@ pub use ordered_output::write_in_order;
 pub use parts::SubModelPart;
 pub use process_info::ProcessInfo;
 pub use properties::{Properties, PropertyValue};
-pub use write_at::{copy_parts_into, write_at_ascending};
+pub use write_at::{concat_parts_with, copy_parts_into, write_at_ascending};

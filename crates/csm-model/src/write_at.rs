@@ -76,6 +76,36 @@ pub fn copy_parts_into<T: Copy + Send + Sync>(out: &mut [T], parts: &[Vec<T>]) {
         .for_each(|(place, part)| place.copy_from_slice(part));
 }
 
+/// The items of `parts`, one part after the other, each mapped by `map`, as one list written
+/// in one parallel pass: its pages are first touched by the threads that write them, where a
+/// serial join of the parts would copy every item on one thread into fresh memory. Each task
+/// finds the part of its first position, then moves on part after part.
+pub fn concat_parts_with<P, T, U>(parts: &[P], map: impl Fn(&T) -> U + Sync + Send) -> Vec<U>
+where
+    P: AsRef<[T]> + Sync,
+    U: Send,
+{
+    // `starts[r]`: the position of part `r`'s first item in the list.
+    let mut starts = Vec::with_capacity(parts.len() + 1);
+    starts.push(0);
+    for part in parts {
+        starts.push(starts[starts.len() - 1] + part.as_ref().len());
+    }
+    let total = starts[parts.len()];
+    (0..total)
+        .into_par_iter()
+        .map_init(
+            || 0,
+            |r: &mut usize, k| {
+                if !(starts[*r] <= k && k < starts[*r + 1]) {
+                    *r = starts.partition_point(|&start| start <= k) - 1;
+                }
+                map(&parts[*r].as_ref()[k - starts[*r]])
+            },
+        )
+        .collect()
+}
+
 /// Items from which [`par_clone`] copies on rayon's pool.
 const PARALLEL_CLONE_ITEMS: usize = 1 << 15;
 
@@ -158,6 +188,39 @@ mod tests {
             let mut out = vec![0u32; parts.iter().map(Vec::len).sum()];
             pool.install(|| copy_parts_into(&mut out, &parts));
             assert_eq!(out, parts.concat());
+        }
+    }
+
+    /// The parts joined in parallel are the parts one after the other, mapped: empty parts
+    /// among them, parts of one item and of thousands, on pools of 1–3 threads.
+    #[test]
+    fn parts_are_joined_in_order_on_any_pool() {
+        let sizes = [0, 3, 1, 0, 5000, 17, 0, 1, 2048, 9000, 0];
+        let mut next = 0u32;
+        let parts: Vec<Vec<u32>> = sizes
+            .iter()
+            .map(|&n| {
+                let part = (next..next + n).map(|v| v * 7 % 10_007).collect();
+                next += n;
+                part
+            })
+            .collect();
+        let expected: Vec<u64> = parts.iter().flatten().map(|&v| u64::from(v) * 3).collect();
+        let triple = |v: &u32| u64::from(*v) * 3;
+        for threads in [1, 2, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            assert_eq!(pool.install(|| concat_parts_with(&parts, triple)), expected);
+            assert!(
+                pool.install(|| concat_parts_with(&parts[..1], triple))
+                    .is_empty()
+            );
+            assert!(
+                pool.install(|| concat_parts_with(&[] as &[Vec<u32>], triple))
+                    .is_empty()
+            );
         }
     }
 

@@ -422,7 +422,7 @@ fn normal_gap_process_inner(
         };
         (segmented, gaps, removed)
     };
-    report.removed = segment::concat_runs(&removed);
+    report.removed = csm_model::concat_parts_with(&removed, |r| *r);
     drop(removed);
     let known = KnownGaps::from_runs(gaps);
     segment::remove_entries(model.index_maps_mut(), &report.removed);

@@ -426,29 +426,3 @@ pub(super) fn remove_entries(maps: &mut [IndexMap], removed: &[RemovedEntry]) {
         }
     }
 }
-
-/// The entries of `runs`, one run after the other, copied in parallel into the list (no
-/// copy of every entry on one thread, into fresh memory).
-pub(super) fn concat_runs<T: Copy + Send + Sync>(runs: &[Vec<T>]) -> Vec<T> {
-    // `starts[r]`: the position of run `r`'s first entry in the list.
-    let mut starts = Vec::with_capacity(runs.len() + 1);
-    starts.push(0);
-    for run in runs {
-        starts.push(starts[starts.len() - 1] + run.len());
-    }
-    let total = starts[runs.len()];
-    // Each task copies consecutive positions: it finds the run of its first one, then moves on
-    // run after run.
-    (0..total)
-        .into_par_iter()
-        .map_init(
-            || 0,
-            |r: &mut usize, k| {
-                if !(starts[*r] <= k && k < starts[*r + 1]) {
-                    *r = starts.partition_point(|&start| start <= k) - 1;
-                }
-                runs[*r][k - starts[*r]]
-            },
-        )
-        .collect()
-}

@@ -278,35 +278,3 @@ fn removals_in_parallel_leave_the_maps_of_the_serial_loop() {
         }
     }
 }
-
-/// The runs copied in parallel are the runs one after the other: empty runs among them, runs
-/// of one entry and of thousands, on pools of 1–3 threads.
-#[test]
-fn runs_concatenated_in_parallel_are_the_runs_in_order() {
-    let sizes = [0, 3, 1, 0, 5000, 17, 0, 1, 2048, 9000, 0];
-    let mut next = 0u32;
-    let runs: Vec<Vec<u32>> = sizes
-        .iter()
-        .map(|&n| {
-            let run = (next..next + n).map(|v| v * 7 % 10_007).collect();
-            next += n;
-            run
-        })
-        .collect();
-    let expected: Vec<u32> = runs.iter().flatten().copied().collect();
-    for threads in [1, 2, 3] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        assert_eq!(pool.install(|| segment::concat_runs(&runs)), expected);
-        assert_eq!(
-            pool.install(|| segment::concat_runs(&runs[..1])),
-            Vec::<u32>::new()
-        );
-        assert_eq!(
-            pool.install(|| segment::concat_runs::<u32>(&[])),
-            Vec::<u32>::new()
-        );
-    }
-}
