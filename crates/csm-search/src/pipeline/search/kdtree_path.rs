@@ -479,13 +479,12 @@ impl Classified {
                 (first, near)
             })
             .collect();
-        let mut first = Vec::with_capacity(blocks.len());
-        let mut near = Vec::new();
-        for (f, n) in blocks {
-            first.push(f);
-            near.extend(n);
-        }
-        let curve = morton_order_of(&near);
+        // The near slaves' curve from the blocks' lists as they are (no list of them joined
+        // on one thread).
+        let near: Vec<&[(usize, Point)]> = blocks.iter().map(|(_, n)| n.as_slice()).collect();
+        let curve = morton_order_of_parts(&near);
+        drop(near);
+        let first = blocks.into_iter().map(|(f, _)| f).collect();
         Classified { first, curve }
     }
 

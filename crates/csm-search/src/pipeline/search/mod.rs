@@ -63,7 +63,7 @@ use mortar_conditions::{
 pub(crate) use outcome::by_slave;
 #[cfg(test)]
 pub(crate) use query_order::morton_order;
-use query_order::morton_order_of;
+use query_order::morton_order_of_parts;
 pub(crate) use query_order::{Far, reach};
 
 /// The search of one pair key (one Kratos search process).

@@ -62,13 +62,29 @@ impl Far {
 
 /// The positions of `centres` (position, centre) ordered along a Morton curve of the centres
 /// (see [`morton_order`]).
+#[cfg(test)]
 pub(super) fn morton_order_of(centres: &[(usize, Point)]) -> Vec<usize> {
-    let mut lo = Vector::repeat(Real::INFINITY);
-    let mut hi = Vector::repeat(Real::NEG_INFINITY);
-    for (_, p) in centres {
-        lo = lo.inf(&p.coords);
-        hi = hi.sup(&p.coords);
-    }
+    morton_order_of_parts(&[centres])
+}
+
+/// [`morton_order_of`] the centres of `parts`, one part after the other, in parallel passes:
+/// their bounding box, their keys (written into one list, no part joined on one thread), the
+/// sort and the positions.
+pub(super) fn morton_order_of_parts<P>(parts: &[P]) -> Vec<usize>
+where
+    P: AsRef<[(usize, Point)]> + Sync,
+{
+    let empty = (
+        Vector::repeat(Real::INFINITY),
+        Vector::repeat(Real::NEG_INFINITY),
+    );
+    let (lo, hi) = (parts.par_iter())
+        .map(|part| {
+            (part.as_ref().iter()).fold(empty, |(lo, hi), (_, p)| {
+                (lo.inf(&p.coords), hi.sup(&p.coords))
+            })
+        })
+        .reduce(|| empty, |(lo, hi), (l, h)| (lo.inf(&l), hi.sup(&h)));
     let cells = Real::from((1u32 << 21) - 1);
     let quantise = |x: Real, k: usize| -> u64 {
         let span = hi[k] - lo[k];
@@ -87,16 +103,48 @@ pub(super) fn morton_order_of(centres: &[(usize, Point)]) -> Vec<usize> {
         v = (v | v << 2) & 0x1249_2492_4924_9249;
         v
     };
-    let mut keyed: Vec<(u64, usize)> = centres
-        .par_iter()
-        .map(|&(i, p)| {
-            let code = spread(quantise(p.x, 0))
-                | spread(quantise(p.y, 1)) << 1
-                | spread(quantise(p.z, 2)) << 2;
-            (code, i)
-        })
-        .collect();
+    let mut keyed: Vec<(u64, usize)> = csm_model::concat_parts_with(parts, |&(i, p)| {
+        let code = spread(quantise(p.x, 0))
+            | spread(quantise(p.y, 1)) << 1
+            | spread(quantise(p.z, 2)) << 2;
+        (code, i)
+    });
     // The positions are unique: one order, whatever the sort.
     keyed.par_sort_unstable();
-    keyed.into_iter().map(|(_, i)| i).collect()
+    keyed.into_par_iter().map(|(_, i)| i).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The curve of centres given in parts is the curve of the parts joined: parts of many
+    /// sizes (empty ones among them) on pools of 1–3 threads, against the one-list order.
+    #[test]
+    fn the_curve_of_parts_is_the_curve_of_their_list() {
+        // A scattered cloud of 10,000 centres, positions in a shuffled order.
+        let centres: Vec<(usize, Point)> = (0..10_000usize)
+            .map(|k| {
+                let t = k as Real;
+                let at = Point::new((t * 0.37).sin() * 5.0, (t * 0.11).cos() * 3.0, t * 1e-3);
+                ((k * 7919) % 10_000, at)
+            })
+            .collect();
+        let whole = morton_order_of(&centres);
+        assert_ne!(whole, (0..10_000).collect::<Vec<_>>());
+        let mut parts: Vec<&[(usize, Point)]> = Vec::new();
+        let (mut start, mut size) = (0, 0);
+        while start < centres.len() {
+            let end = (start + size).min(centres.len());
+            parts.push(&centres[start..end]);
+            (start, size) = (end, size * 2 + 1);
+        }
+        for threads in [1, 2, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            assert_eq!(pool.install(|| morton_order_of_parts(&parts)), whole);
+        }
+    }
 }
