@@ -110,13 +110,11 @@ pub(super) fn check_pairing(
     crate::trace::mark("result entries");
     let mapping_warnings = report.warnings(mode);
     let ids = model.conditions().ids();
-    pair.pruned = report
-        .removed
-        .iter()
+    pair.pruned = (report.removed.par_iter())
         .map(|r| (ids[r.slave.index()], r.master.get()))
         .collect();
     // TO_ERASE: the paired conditions of removed entries (kept from an earlier step) go.
-    if report.removed.iter().any(|r| r.paired.is_some()) {
+    if report.removed.par_iter().any(|r| r.paired.is_some()) {
         let erased: BTreeSet<u32> = report
             .removed
             .iter()
@@ -161,7 +159,9 @@ pub(super) fn check_pairing(
     crate::trace::mark("auxiliary conditions");
     // ComputeWeightedReaction: only the Advanced activation reads WEIGHTED_GAP.
     if plan.weighted_gap.is_used() {
-        let paired: Vec<_> = pair.paired.iter().map(|pc| (pc.slave, pc.master)).collect();
+        let paired: Vec<_> = (pair.paired.par_iter())
+            .map(|pc| (pc.slave, pc.master))
+            .collect();
         let isolated = act::compute_weighted_gap(
             model,
             sub,
@@ -171,9 +171,9 @@ pub(super) fn check_pairing(
             known_gaps,
         )
         .map_err(activation_error)?;
-        for (pc, isolated) in pair.paired.iter_mut().zip(isolated) {
-            pc.isolated = isolated;
-        }
+        (pair.paired.par_iter_mut())
+            .zip(isolated)
+            .for_each(|(pc, isolated)| pc.isolated = isolated);
     }
     crate::trace::mark("weighted gap");
     let rule = if p.simple_search {
