@@ -197,8 +197,19 @@ pub(super) fn gather_first_iterations(
     let mut first = FirstIterations::zeros(n_slaves);
     let tolerance = AREA_TOLERANCE * ref_area;
     let mut batches: Vec<Option<Batch>> = (0..n_batches).map(|_| None).collect();
-    for (b, conditions) in s.slave_conditions.chunks(batch).enumerate() {
-        let mut mapped = segment_slaves(m, conditions, tasks)?;
+    // Pipelined: a batch's gathers run beside the next batch's segmentation, so that neither
+    // waits for the other's last tasks (nor for the serial writes of the sums). The gathers
+    // of batch `b` read only the batches up to `b`; the batches are still taken in order, so
+    // the reports and the first error are the loop's.
+    let conditions_of: Vec<&[ConditionIdx]> = s.slave_conditions.chunks(batch).collect();
+    let mut segmented = match conditions_of.first() {
+        Some(conditions) => Some(segment_slaves(m, conditions, tasks)?),
+        None => None,
+    };
+    for (b, &conditions) in conditions_of.iter().enumerate() {
+        let mut mapped = segmented
+            .take()
+            .expect("a batch is segmented before its turn");
         for mapped in &mut mapped {
             first.take_reports(mapped, (&mut *report, &mut *standard));
         }
@@ -218,28 +229,38 @@ pub(super) fn gather_first_iterations(
             store: tasks.store,
             dim,
         };
-        // The first iteration of the nodes whose last slave condition is in this batch.
-        let sums: Vec<(Vector, Real)> = firsts[b]
-            .par_iter()
-            .with_min_len(NODES_PER_TASK)
-            .map(|&j| gather.node(j, |n, k| aux[n.index()][k], true))
-            .collect();
-        for (&j, (v, a)) in firsts[b].iter().zip(sums) {
-            first.vaux[0][j] = v;
-            first.area[j] = a;
-        }
-        // The second of the nodes whose slave conditions' nodes all have their first.
-        let (vaux0, area) = (&first.vaux[0], &first.area);
-        let first_value =
-            |n: NodeIdx, k: usize| after_first(aux, (vaux0, area, tolerance), (n, position(n)), k);
-        let sums: Vec<(Vector, Real)> = seconds[b]
-            .par_iter()
-            .with_min_len(NODES_PER_TASK)
-            .map(|&j| gather.node(j, first_value, false))
-            .collect();
-        for (&j, (v, _)) in seconds[b].iter().zip(sums) {
-            first.vaux[1][j] = v;
-        }
+        let first = &mut first;
+        let gathers = || {
+            // The first iteration of the nodes whose last slave condition is in this batch.
+            let sums: Vec<(Vector, Real)> = firsts[b]
+                .par_iter()
+                .with_min_len(NODES_PER_TASK)
+                .map(|&j| gather.node(j, |n, k| aux[n.index()][k], true))
+                .collect();
+            for (&j, (v, a)) in firsts[b].iter().zip(sums) {
+                first.vaux[0][j] = v;
+                first.area[j] = a;
+            }
+            // The second of the nodes whose slave conditions' nodes all have their first.
+            let (vaux0, area) = (&first.vaux[0], &first.area);
+            let first_value = |n: NodeIdx, k: usize| {
+                after_first(aux, (vaux0, area, tolerance), (n, position(n)), k)
+            };
+            let sums: Vec<(Vector, Real)> = seconds[b]
+                .par_iter()
+                .with_min_len(NODES_PER_TASK)
+                .map(|&j| gather.node(j, first_value, false))
+                .collect();
+            for (&j, (v, _)) in seconds[b].iter().zip(sums) {
+                first.vaux[1][j] = v;
+            }
+        };
+        let next = conditions_of.get(b + 1);
+        let (next_segmented, ()) = rayon::join(
+            || next.map(|conditions| segment_slaves(m, conditions, tasks)),
+            gathers,
+        );
+        segmented = next_segmented.transpose()?;
         for (kept, until) in batches.iter_mut().zip(&keep_until).take(b + 1) {
             if *until <= b {
                 *kept = None;
