@@ -567,64 +567,73 @@ fn known_gaps_cursor_answers_as_a_map_of_the_entries() {
     use crate::weighted_gap::{KnownGap, KnownGaps};
     use std::collections::BTreeMap;
     let key = |i: u32| (ConditionIdx(i / 5), ConditionIdx(i % 5 * 3));
-    // Every third key of 0..3000 is known, each with its own value (an error naming it).
+    // Every third key of 0..3n is known, each with its own value (an error naming it): few
+    // entries (their runs taken on one thread) and many (in parallel passes).
     let entry = |i: u32| -> KnownGap { (key(3 * i), Err(Error::message_only(format!("{i}")))) };
-    let oracle: BTreeMap<_, _> = (0..1000u32).map(|i| (key(3 * i), entry(i).1)).collect();
-    // Runs in key order, each entered out of order: sizes 1, 2, …, 44 (then what is left).
-    let mut in_runs = Vec::new();
-    let (mut next, mut size) = (0u32, 1u32);
-    while next < 1000 {
-        let end = (next + size).min(1000);
-        in_runs.push((next..end).rev().map(entry).collect::<Vec<_>>());
-        (next, size) = (end, size + 1);
-    }
-    in_runs.insert(3, Vec::new());
-    // Seven runs whose keys interleave: entry `i` in run `i % 7`.
-    let interleaved: Vec<Vec<KnownGap>> = (0..7u32)
-        .map(|r| (0..1000u32).filter(|i| i % 7 == r).map(entry).collect())
-        .collect();
-    let one_run = vec![(0..1000u32).rev().map(entry).collect::<Vec<_>>()];
-    let mut state = 0x853C_49E6_748F_EA9Bu64;
-    let mut random = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state % 3100) as u32
-    };
-    let ascending: Vec<u32> = (0..3100).collect();
-    let descending: Vec<u32> = (0..3100).rev().collect();
-    let scattered: Vec<u32> = (0..5000).map(|_| random()).collect();
-    let repeated = vec![42, 42, 43, 0, 0, 2999, 3099, 3];
-    // Within each slave, its masters backwards (ids need not follow indices).
-    let slave_backwards: Vec<u32> = (0..3100).map(|q| q / 5 * 5 + 4 - q % 5).collect();
-    for runs in [one_run, in_runs, interleaved] {
-        let known = KnownGaps::from_runs(runs);
-        assert_eq!(known.len(), 1000);
-        let (mut hits, mut misses) = (0, 0);
-        for queries in [
-            &ascending,
-            &descending,
-            &scattered,
-            &repeated,
-            &slave_backwards,
-        ] {
-            let mut cursor = known.cursor();
-            for &q in queries {
-                let (s, m) = key(q);
-                let expected = oracle.get(&(s, m));
-                let got = cursor.get(s, m);
-                assert_eq!(got, expected, "{q}");
-                assert_eq!(known.get(s, m), expected, "{q}");
-                if got.is_some() {
-                    hits += 1;
-                } else {
-                    misses += 1;
+    for n in [1000u32, 20_000] {
+        let oracle: BTreeMap<_, _> = (0..n).map(|i| (key(3 * i), entry(i).1)).collect();
+        // Runs in key order, each entered out of order: sizes 1, 2, 3, … (then what is left),
+        // and an empty one.
+        let mut in_runs = Vec::new();
+        let (mut next, mut size) = (0u32, 1u32);
+        while next < n {
+            let end = (next + size).min(n);
+            in_runs.push((next..end).rev().map(entry).collect::<Vec<_>>());
+            (next, size) = (end, size + 1);
+        }
+        in_runs.insert(3, Vec::new());
+        // Seven runs whose keys interleave: entry `i` in run `i % 7`.
+        let interleaved: Vec<Vec<KnownGap>> = (0..7u32)
+            .map(|r| (0..n).filter(|i| i % 7 == r).map(entry).collect())
+            .collect();
+        let one_run = vec![(0..n).rev().map(entry).collect::<Vec<_>>()];
+        let end = 3 * n + 100;
+        let mut state = 0x853C_49E6_748F_EA9Bu64;
+        let mut random = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % u64::from(end)) as u32
+        };
+        let ascending: Vec<u32> = (0..end).collect();
+        let descending: Vec<u32> = (0..end).rev().collect();
+        let scattered: Vec<u32> = (0..end * 5 / 3).map(|_| random()).collect();
+        let repeated = vec![42, 42, 43, 0, 0, 2999, 3099, 3];
+        // Within each slave, its masters backwards (ids need not follow indices).
+        let slave_backwards: Vec<u32> = (0..end).map(|q| q / 5 * 5 + 4 - q % 5).collect();
+        for runs in [one_run, in_runs, interleaved] {
+            let known = KnownGaps::from_runs(runs);
+            assert_eq!(known.len(), n as usize);
+            let (mut hits, mut misses) = (0, 0);
+            for queries in [
+                &ascending,
+                &descending,
+                &scattered,
+                &repeated,
+                &slave_backwards,
+            ] {
+                let mut cursor = known.cursor();
+                for &q in queries {
+                    let (s, m) = key(q);
+                    let expected = oracle.get(&(s, m));
+                    let got = cursor.get(s, m);
+                    assert_eq!(got, expected, "{q}");
+                    assert_eq!(known.get(s, m), expected, "{q}");
+                    if got.is_some() {
+                        hits += 1;
+                    } else {
+                        misses += 1;
+                    }
                 }
             }
+            assert!(
+                hits > 3 * n && misses > 6 * n,
+                "{hits} hits, {misses} misses"
+            );
+            let entries: Vec<_> = known.entries().into_iter().map(|(k, _)| *k).collect();
+            assert_eq!(entries, oracle.keys().copied().collect::<Vec<_>>());
+            known.par_drop();
         }
-        assert!(hits > 3000 && misses > 6000, "{hits} hits, {misses} misses");
-        let entries: Vec<_> = known.entries().into_iter().map(|(k, _)| *k).collect();
-        assert_eq!(entries, oracle.keys().copied().collect::<Vec<_>>());
     }
 }
 

@@ -137,6 +137,10 @@ impl PairGap {
     }
 }
 
+/// Entries from which [`KnownGaps`] sorts, checks and frees its runs in parallel passes (a
+/// parallel pass costs more than a few entries' work).
+const PARALLEL_ENTRIES: usize = 1 << 14;
+
 /// One entry of [`KnownGaps`]: a (slave, master) pair and its contribution.
 pub(crate) type KnownGap = ((ConditionIdx, ConditionIdx), Result<Option<PairGap>, Error>);
 
@@ -169,14 +173,22 @@ impl KnownGaps {
     pub(crate) fn from_runs(mut runs: Vec<Vec<KnownGap>>) -> KnownGaps {
         runs.retain(|run| !run.is_empty());
         // Keys are unique: an unstable sort gives the same order, without a buffer.
-        (runs.par_iter_mut()).for_each(|run| run.sort_unstable_by_key(|(key, _)| *key));
+        let sort = |run: &mut Vec<KnownGap>| run.sort_unstable_by_key(|(key, _)| *key);
         let last = |run: &[KnownGap]| run[run.len() - 1].0;
-        if !runs.par_windows(2).all(|w| last(&w[0]) < w[1][0].0) {
+        let before = |w: &[Vec<KnownGap>]| last(&w[0]) < w[1][0].0;
+        let len = runs.iter().map(Vec::len).sum();
+        let ordered = if len >= PARALLEL_ENTRIES {
+            runs.par_iter_mut().for_each(sort);
+            runs.par_windows(2).all(before)
+        } else {
+            runs.iter_mut().for_each(sort);
+            runs.windows(2).all(before)
+        };
+        if !ordered {
             let mut all: Vec<KnownGap> = runs.into_iter().flatten().collect();
             all.sort_unstable_by_key(|(key, _)| *key);
             runs = vec![all];
         }
-        let len = runs.iter().map(Vec::len).sum();
         KnownGaps { runs, len }
     }
 
@@ -228,7 +240,9 @@ impl KnownGaps {
     /// Frees the entries, the runs in parallel (each entry's drop reads it: on one thread,
     /// a pass over all of them).
     pub(crate) fn par_drop(self) {
-        self.runs.into_par_iter().for_each(drop);
+        if self.len >= PARALLEL_ENTRIES {
+            self.runs.into_par_iter().for_each(drop);
+        }
     }
 }
 

@@ -418,7 +418,8 @@ pub(super) fn remove_entries(maps: &mut [IndexMap], removed: &[RemovedEntry]) {
             || remove_in(right_maps, split, right),
         );
     }
-    if removed.par_windows(2).all(|w| w[0].slave <= w[1].slave) {
+    let ascending = |w: &[RemovedEntry]| w[0].slave <= w[1].slave;
+    if removed.len() <= REMOVALS_PER_TASK || removed.par_windows(2).all(ascending) {
         remove_in(maps, 0, removed);
     } else {
         for r in removed {

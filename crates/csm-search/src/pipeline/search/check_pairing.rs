@@ -3,6 +3,9 @@
 
 use super::*;
 
+/// Entries from which the lists after the mapping are built in parallel passes.
+const PARALLEL_FROM: usize = 1 << 14;
+
 /// What [`check_pairing`] works with besides the model, the pair and the run mode.
 pub(super) struct PairingStep<'a> {
     pub(super) params: &'a SearchParameters,
@@ -110,11 +113,19 @@ pub(super) fn check_pairing(
     crate::trace::mark("result entries");
     let mapping_warnings = report.warnings(mode);
     let ids = model.conditions().ids();
-    pair.pruned = (report.removed.par_iter())
-        .map(|r| (ids[r.slave.index()], r.master.get()))
-        .collect();
+    // (In parallel where they are many: a parallel pass costs more than a few entries.)
+    let many = report.removed.len() >= PARALLEL_FROM;
+    let pruned = |r: &act::RemovedEntry| (ids[r.slave.index()], r.master.get());
+    pair.pruned = if many {
+        report.removed.par_iter().map(pruned).collect()
+    } else {
+        report.removed.iter().map(pruned).collect()
+    };
     // TO_ERASE: the paired conditions of removed entries (kept from an earlier step) go.
-    if report.removed.par_iter().any(|r| r.paired.is_some()) {
+    let to_erase = |r: &act::RemovedEntry| r.paired.is_some();
+    if (many && report.removed.par_iter().any(to_erase))
+        || (!many && report.removed.iter().any(to_erase))
+    {
         let erased: BTreeSet<u32> = report
             .removed
             .iter()
@@ -159,9 +170,13 @@ pub(super) fn check_pairing(
     crate::trace::mark("auxiliary conditions");
     // ComputeWeightedReaction: only the Advanced activation reads WEIGHTED_GAP.
     if plan.weighted_gap.is_used() {
-        let paired: Vec<_> = (pair.paired.par_iter())
-            .map(|pc| (pc.slave, pc.master))
-            .collect();
+        let many = pair.paired.len() >= PARALLEL_FROM;
+        let of = |pc: &PairedCondition| (pc.slave, pc.master);
+        let paired: Vec<_> = if many {
+            pair.paired.par_iter().map(of).collect()
+        } else {
+            pair.paired.iter().map(of).collect()
+        };
         let isolated = act::compute_weighted_gap(
             model,
             sub,
@@ -171,9 +186,12 @@ pub(super) fn check_pairing(
             known_gaps,
         )
         .map_err(activation_error)?;
-        (pair.paired.par_iter_mut())
-            .zip(isolated)
-            .for_each(|(pc, isolated)| pc.isolated = isolated);
+        let set = |(pc, isolated): (&mut PairedCondition, bool)| pc.isolated = isolated;
+        if many {
+            pair.paired.par_iter_mut().zip(isolated).for_each(set);
+        } else {
+            pair.paired.iter_mut().zip(isolated).for_each(set);
+        }
     }
     crate::trace::mark("weighted gap");
     let rule = if p.simple_search {
