@@ -601,9 +601,13 @@ fn known_gaps_cursor_answers_as_a_map_of_the_entries() {
         let repeated = vec![42, 42, 43, 0, 0, 2999, 3099, 3];
         // Within each slave, its masters backwards (ids need not follow indices).
         let slave_backwards: Vec<u32> = (0..end).map(|q| q / 5 * 5 + 4 - q % 5).collect();
-        for runs in [one_run, in_runs, interleaved] {
+        let n_in_runs = in_runs.len() - 1;
+        for (runs, kept) in [(one_run, 1), (in_runs, n_in_runs), (interleaved, 1)] {
             let known = KnownGaps::from_runs(runs);
             assert_eq!(known.len(), n as usize);
+            // The runs in key order are kept as runs (not the empty one); the interleaved
+            // ones are merged.
+            assert_eq!(known.n_runs(), kept);
             let (mut hits, mut misses) = (0, 0);
             for queries in [
                 &ascending,

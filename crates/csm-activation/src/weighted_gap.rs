@@ -54,7 +54,6 @@ pub fn compute_weighted_gap(
     // (The pairs come mostly in key order: each task looks them up with its own cursor.)
     // The lookups also note whether a pair is not known and the first known error (the
     // smallest position: the same whatever the order of the notes).
-    type Contribution = Result<Option<PairGap>, Error>;
     let (unknown, first_error) = (AtomicBool::new(false), AtomicUsize::new(usize::MAX));
     let looked: Vec<Option<&Contribution>> = (pairs.par_iter().enumerate())
         .map_init(
@@ -63,7 +62,9 @@ pub fn compute_weighted_gap(
                 let found = cursor.get(sc, mc);
                 match found {
                     None => unknown.store(true, Relaxed),
-                    Some(Err(_)) => drop(first_error.fetch_min(k, Relaxed)),
+                    Some(Err(_)) => {
+                        first_error.fetch_min(k, Relaxed);
+                    }
                     Some(Ok(_)) => {}
                 }
                 found
@@ -141,16 +142,19 @@ impl PairGap {
 /// parallel pass costs more than a few entries' work).
 const PARALLEL_ENTRIES: usize = 1 << 14;
 
+/// A pair's weighted-gap contribution: `None` without enough overlap (ISOLATED), or the error
+/// its computation gave.
+pub(crate) type Contribution = Result<Option<PairGap>, Error>;
+
 /// One entry of [`KnownGaps`]: a (slave, master) pair and its contribution.
-pub(crate) type KnownGap = ((ConditionIdx, ConditionIdx), Result<Option<PairGap>, Error>);
+pub(crate) type KnownGap = ((ConditionIdx, ConditionIdx), Contribution);
 
 /// Weighted-gap contributions computed by the mapping, by (slave, master) condition: the
 /// contribution, `None` for a pair without enough overlap (ISOLATED), or the error its
 /// computation gave (reported when the weighted gap reaches the pair, in pair order).
 ///
 /// Kept as the runs the mapping's tasks wrote (one per task of slave conditions), not joined
-/// into one list: joining them was a copy of every entry on one thread, into fresh memory
-/// (blocks 1e5: 307k entries, 17–19 ms of the mapping at any thread count).
+/// into one list: a join would copy every entry on one thread, into fresh memory.
 #[derive(Debug, Default)]
 pub struct KnownGaps {
     /// Runs of entries, each sorted by key and not empty; every key of a run is below every
@@ -168,8 +172,9 @@ impl KnownGaps {
     }
 
     /// The entries of `runs` (the mapping's tasks', in the order of its slave conditions):
-    /// each run sorted, in parallel. Where the runs' keys then interleave (slave conditions
-    /// out of index order), every entry is merged into one sorted run.
+    /// each run sorted (in parallel from [`PARALLEL_ENTRIES`] entries). Where the runs' keys
+    /// then interleave (slave conditions out of index order), every entry is merged into one
+    /// sorted run.
     pub(crate) fn from_runs(mut runs: Vec<Vec<KnownGap>>) -> KnownGaps {
         runs.retain(|run| !run.is_empty());
         // Keys are unique: an unstable sort gives the same order, without a buffer.
@@ -211,11 +216,7 @@ impl KnownGaps {
     /// The contribution of the pair `(slave, master)`, if known (the oracle of
     /// [`KnownGapsCursor::get`]).
     #[cfg(test)]
-    pub(crate) fn get(
-        &self,
-        slave: ConditionIdx,
-        master: ConditionIdx,
-    ) -> Option<&Result<Option<PairGap>, Error>> {
+    pub(crate) fn get(&self, slave: ConditionIdx, master: ConditionIdx) -> Option<&Contribution> {
         let key = (slave, master);
         let run = self.runs.get(self.run_of(key))?;
         let k = run.binary_search_by_key(&key, |(key, _)| *key).ok()?;
@@ -228,6 +229,12 @@ impl KnownGaps {
         self.runs.iter().flatten().collect()
     }
 
+    /// The number of runs kept.
+    #[cfg(test)]
+    pub(crate) fn n_runs(&self) -> usize {
+        self.runs.len()
+    }
+
     /// A cursor for many lookups ([`KnownGapsCursor::get`]).
     pub(crate) fn cursor(&self) -> KnownGapsCursor<'_> {
         KnownGapsCursor {
@@ -237,8 +244,8 @@ impl KnownGaps {
         }
     }
 
-    /// Frees the entries, the runs in parallel (each entry's drop reads it: on one thread,
-    /// a pass over all of them).
+    /// Frees the entries, the runs in parallel from [`PARALLEL_ENTRIES`] entries (each
+    /// entry's drop reads it: on one thread, a pass over all of them).
     pub(crate) fn par_drop(self) {
         if self.len >= PARALLEL_ENTRIES {
             self.runs.into_par_iter().for_each(drop);
@@ -264,7 +271,7 @@ impl<'a> KnownGapsCursor<'a> {
         &mut self,
         slave: ConditionIdx,
         master: ConditionIdx,
-    ) -> Option<&'a Result<Option<PairGap>, Error>> {
+    ) -> Option<&'a Contribution> {
         let runs = &self.gaps.runs;
         let key = (slave, master);
         // In the run of the previous lookup, from its position: a short search forward

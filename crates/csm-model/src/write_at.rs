@@ -79,7 +79,7 @@ pub fn copy_parts_into<T: Copy + Send + Sync>(out: &mut [T], parts: &[Vec<T>]) {
 /// The items of `parts`, one part after the other, each mapped by `map`, as one list written
 /// in one parallel pass: its pages are first touched by the threads that write them, where a
 /// serial join of the parts would copy every item on one thread into fresh memory. Each task
-/// finds the part of its first position, then moves on part after part.
+/// finds the part of its first position, then the next part as it passes the end of one.
 pub fn concat_parts_with<P, T, U>(parts: &[P], map: impl Fn(&T) -> U + Sync + Send) -> Vec<U>
 where
     P: AsRef<[T]> + Sync,
@@ -97,7 +97,13 @@ where
         .map_init(
             || 0,
             |r: &mut usize, k| {
-                if !(starts[*r] <= k && k < starts[*r + 1]) {
+                // (Positions come in order within a task: past the end of its part, the
+                // next part with items; where the task starts, a search.)
+                if k == starts[*r + 1] {
+                    while starts[*r + 1] <= k {
+                        *r += 1;
+                    }
+                } else if !(starts[*r] <= k && k < starts[*r + 1]) {
                     *r = starts.partition_point(|&start| start <= k) - 1;
                 }
                 map(&parts[*r].as_ref()[k - starts[*r]])

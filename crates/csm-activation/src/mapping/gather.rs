@@ -15,6 +15,9 @@
 //! The walk reads each pair's operators once per slave node rather than once, and a node's
 //! condition list is built first (integer passes): on few threads the serial pass costs less
 //! ([`super::MappingTuning::gather_from_threads`]).
+//!
+//! A batch's gathers run beside the next batch's segmentation (as the serial pass's sums
+//! do): the next batch's operators are alive beside the batches the gathers read.
 
 use csm_geometry::MAX_FACE_NODES;
 use csm_geometry::MortarOperators;

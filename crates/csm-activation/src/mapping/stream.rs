@@ -41,9 +41,9 @@ impl FirstIterations {
         }
     }
 
-    /// Moves a batch mapping's reports into the run's, in slave order: its kept count, the
-    /// slave conditions of its standard-basis pairs, its lost projections, its removed entries
-    /// and its weighted gaps.
+    /// Moves a batch mapping's reports out, in slave order: its kept count, the slave
+    /// conditions of its standard-basis pairs and its lost projections into the run's
+    /// (`report`, `standard`), its removed entries and weighted gaps (as runs) into `self`.
     pub(super) fn take_reports(
         &mut self,
         mapped: &mut SlaveMapping,
@@ -128,8 +128,10 @@ pub(super) fn streams(
 /// in pair order, bit for bit: the values after the first iteration are computed as the
 /// iteration computes them, and what the iterations do with the sums of the first two
 /// (`aux` update, convergence) is left to them. `(aux, ref_area)`: the values before the
-/// iterations and the reference area. Counts the kept entries in `report`, adds the
-/// removed ones in slave order and the slave conditions of standard-basis pairs to `standard`.
+/// iterations and the reference area. Counts the kept entries in `report`, adds the slave
+/// conditions of standard-basis pairs to `standard`, and keeps the tasks' removed entries
+/// and weighted gaps in slave order in the result ([`FirstIterations::removed`],
+/// [`FirstIterations::gaps`]).
 pub(super) fn stream_first_iterations(
     m: &ModelPart,
     s: &Sides,

@@ -224,8 +224,9 @@ fn robust_weighted_gap_is_the_same_far_from_the_origin() {
 }
 
 /// The removals in parallel leave every INDEX_MAP as the serial loop over the list does: slave
-/// conditions ascending (cut between slaves, one slave with entries across several cuts, maps
-/// without removals between), out of order (the serial pass), on pools of 1–3 threads.
+/// conditions ascending (cut between slaves; one slave's entries where the middle cuts fall,
+/// so that the cut moves to its end or back to its start; maps without removals between),
+/// and out of order (the serial pass), on pools of 1–3 threads.
 #[test]
 fn removals_in_parallel_leave_the_maps_of_the_serial_loop() {
     // 3,000 conditions, condition c with masters 1..=(c % 9 + 1), and condition 1,500 with
@@ -255,8 +256,11 @@ fn removals_in_parallel_leave_the_maps_of_the_serial_loop() {
             paired: None,
         }));
     }
+    // Two slaves' entries swapped (the list no longer ascends): the maps lose the same
+    // entries, so they end as the ascending list's.
     let mut scrambled = ascending.clone();
     scrambled.swap(10, 12_000);
+    assert_ne!(scrambled[10].slave, scrambled[12_000].slave);
     let serial = |removed: &[RemovedEntry]| {
         let mut maps = maps.clone();
         for r in removed {
@@ -264,8 +268,9 @@ fn removals_in_parallel_leave_the_maps_of_the_serial_loop() {
         }
         maps
     };
+    let expected = serial(&ascending);
+    assert!(serial(&scrambled) == expected);
     for removed in [&ascending, &scrambled] {
-        let expected = serial(removed);
         assert!(expected.iter().zip(&maps).filter(|(a, b)| a != b).count() > 900);
         for threads in [1, 2, 3] {
             let pool = rayon::ThreadPoolBuilder::new()

@@ -123,9 +123,12 @@ pub(super) fn check_pairing(
     };
     // TO_ERASE: the paired conditions of removed entries (kept from an earlier step) go.
     let to_erase = |r: &act::RemovedEntry| r.paired.is_some();
-    if (many && report.removed.par_iter().any(to_erase))
-        || (!many && report.removed.iter().any(to_erase))
-    {
+    let any_to_erase = if many {
+        report.removed.par_iter().any(to_erase)
+    } else {
+        report.removed.iter().any(to_erase)
+    };
+    if any_to_erase {
         let erased: BTreeSet<u32> = report
             .removed
             .iter()
