@@ -82,25 +82,23 @@ pub fn compute_weighted_gap(
     } else {
         Vec::new()
     };
-    // The first error in pair order, known or computed, before anything is written (the
-    // model's values stay as they were on an error).
-    let known_error = first_error.into_inner();
-    let computed_error = computed.iter().find(|(_, c)| c.is_err());
-    match computed_error {
-        Some((k, Err(e))) if *k < known_error => return Err(e.clone()),
-        _ if known_error < pairs.len() => {
-            if let Some(Err(e)) = looked[known_error] {
-                return Err(e.clone());
-            }
-        }
-        _ => {}
-    }
     let contribution = |k: usize| -> &Contribution {
         looked[k].unwrap_or_else(|| {
             let at = computed.binary_search_by_key(&k, |(k, _)| *k);
             &computed[at.expect("one contribution per pair, known or computed")].1
         })
     };
+    // The first error in pair order, known or computed, before anything is written (the
+    // model's values stay as they were on an error).
+    let computed_error = computed.iter().find(|(_, c)| c.is_err()).map(|(k, _)| *k);
+    let first = first_error
+        .into_inner()
+        .min(computed_error.unwrap_or(usize::MAX));
+    if first < pairs.len()
+        && let Err(e) = contribution(first)
+    {
+        return Err(e.clone());
+    }
     // Summed in place: the sub's nodes start at zero, then every contribution in pair order.
     let mut isolated = Vec::with_capacity(pairs.len());
     model.with_scalar_mut(ScalarVar::WeightedGap, 0, |m, wg| {

@@ -386,6 +386,12 @@ const REMOVALS_PER_TASK: usize = 4096;
 /// entries and the maps at the first slave after the cut, so each task holds the maps it
 /// changes, with no list of them to build; otherwise one pass in order.
 pub(super) fn remove_entries(maps: &mut [IndexMap], removed: &[RemovedEntry]) {
+    /// The entries `removed` from `maps`, whose first is condition `offset`'s map, in order.
+    fn remove_serially(maps: &mut [IndexMap], offset: usize, removed: &[RemovedEntry]) {
+        for r in removed {
+            maps[r.slave.index() - offset].remove_id(r.master);
+        }
+    }
     /// The entries `removed` from `maps`, whose first is condition `offset`'s map.
     fn remove_in(maps: &mut [IndexMap], offset: usize, removed: &[RemovedEntry]) {
         let n = removed.len();
@@ -405,10 +411,7 @@ pub(super) fn remove_entries(maps: &mut [IndexMap], removed: &[RemovedEntry]) {
             }
         }
         if n <= REMOVALS_PER_TASK || cut == 0 {
-            for r in removed {
-                maps[r.slave.index() - offset].remove_id(r.master);
-            }
-            return;
+            return remove_serially(maps, offset, removed);
         }
         let (left, right) = removed.split_at(cut);
         let (left_maps, right_maps) = maps.split_at_mut(right[0].slave.index() - offset);
@@ -422,8 +425,6 @@ pub(super) fn remove_entries(maps: &mut [IndexMap], removed: &[RemovedEntry]) {
     if removed.len() <= REMOVALS_PER_TASK || removed.par_windows(2).all(ascending) {
         remove_in(maps, 0, removed);
     } else {
-        for r in removed {
-            maps[r.slave.index()].remove_id(r.master);
-        }
+        remove_serially(maps, 0, removed);
     }
 }
