@@ -129,8 +129,8 @@ enum Command {
         #[arg(long)]
         threads: Option<usize>,
         /// Also write the wall time of every stage (read, initialize, search, write) as
-        /// JSON, with its page faults on Linux (`csm-profile/1`; under `mpirun`, rank 0's
-        /// stages and every rank's phases).
+        /// JSON, with its page faults and CPU time on Linux (`csm-profile/1`; under `mpirun`,
+        /// rank 0's stages and every rank's phases).
         #[arg(long, value_name = "PROFILE.json")]
         profile: Option<PathBuf>,
         /// Print nothing but errors.

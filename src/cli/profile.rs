@@ -15,12 +15,16 @@
 //! Where the system counts them (Linux), every stage also has its minor page faults (field
 //! `faults` of the libraries' events; the binary's own stages and `other` count them here):
 //! those of the whole process while the stage ran, each a page of fresh memory touched for
-//! the first time. A stage that ran beside another on another thread counts the other's too.
+//! the first time; and its CPU time (field `cpu_seconds`): every thread's of the process
+//! while the stage ran, user and system. A stage that ran beside another on another thread
+//! counts the other's too. On N threads, CPU time near N × the wall time says the threads
+//! were busy throughout (a waiting thread that spins before it sleeps counts as busy); less
+//! says they waited (a serial stretch, the end of a parallel pass).
 //!
 //! The file (`csm-profile/1`):
 //! `{"format": "csm-profile/1", "threads": N, "phases": {"read": s, …, "total": s},
-//!   "stages": [{"phase": "initialize", "stage": "normal check", "seconds": s, "faults": n},
-//!   …]}` (`faults` where counted); under
+//!   "stages": [{"phase": "initialize", "stage": "normal check", "seconds": s, "faults": n,
+//!   "cpu": s}, …]}` (`faults` and `cpu` where counted); under
 //! `mpirun` also `"ranks": [{"read": s, "initialize": s, "search": s}, …]`, every rank's
 //! phases in rank order (the file's phases and stages are rank 0's).
 
@@ -30,7 +34,7 @@ use serde_json::{Value, json};
 use tracing::field::{Field, Visit};
 use tracing_subscriber::layer::{Context, Layer};
 
-use crate::search::minor_faults;
+use crate::search::Usage;
 
 /// One stage of a run.
 #[derive(Debug, Clone, PartialEq)]
@@ -43,6 +47,8 @@ pub struct StageTime {
     pub seconds: f64,
     /// The process's minor page faults while it ran, where the system counts them.
     pub faults: Option<u64>,
+    /// The process's CPU time while it ran (every thread's, s), where the system counts it.
+    pub cpu_seconds: Option<f64>,
 }
 
 #[derive(Debug, Default)]
@@ -52,21 +58,22 @@ struct State {
     began: Option<std::time::Instant>,
     stages: Vec<StageTime>,
     phases: Vec<(String, f64)>,
-    /// The process's page faults when the current phase began.
-    phase_faults: Option<u64>,
+    /// What the process had used (page faults, CPU time) when the current phase began.
+    phase_usage: Usage,
     /// … when the binary's last stage of the phase ended ([`Recorder::record`]), or the
     /// phase began.
-    record_faults: Option<u64>,
+    record_usage: Usage,
 }
 
 impl State {
     /// Adds stage `stage` of the current phase.
-    fn push(&mut self, stage: &str, seconds: f64, faults: Option<u64>) {
+    fn push(&mut self, stage: &str, seconds: f64, used: Usage) {
         self.stages.push(StageTime {
             phase: self.phase.clone(),
             stage: stage.to_owned(),
             seconds,
-            faults,
+            faults: used.faults,
+            cpu_seconds: used.cpu_seconds,
         });
     }
 }
@@ -89,12 +96,12 @@ impl Recorder {
 
     /// Starts phase `name`: the stages that end from now on belong to it.
     pub fn phase(&self, name: &str) {
-        let faults = minor_faults();
+        let usage = Usage::now();
         self.with(|s| {
             s.phase = name.to_owned();
             s.began = Some(std::time::Instant::now());
-            s.phase_faults = faults;
-            s.record_faults = faults;
+            s.phase_usage = usage;
+            s.record_usage = usage;
         });
     }
 
@@ -115,52 +122,47 @@ impl Recorder {
     /// Ends the current phase, which took `seconds` in all: what its stages do not cover
     /// becomes its stage `other` (a phase without stages becomes one stage of its name).
     pub fn end_phase(&self, seconds: f64) {
-        let faults_now = minor_faults();
+        let now = Usage::now();
         self.with(|s| {
             let of_phase = || s.stages.iter().filter(|t| t.phase == s.phase);
             let covered: f64 = of_phase().map(|t| t.seconds).sum();
-            // The phase's faults that none of its stages counted.
-            let faults = faults_now.zip(s.phase_faults).map(|(now, began)| {
-                let counted: u64 = of_phase().filter_map(|t| t.faults).sum();
-                now.saturating_sub(began).saturating_sub(counted)
-            });
+            // The phase's page faults and CPU time that none of its stages counted.
+            let phase_used = now.since(s.phase_usage);
+            let used = Usage {
+                faults: phase_used.faults.map(|n| {
+                    let counted: u64 = of_phase().filter_map(|t| t.faults).sum();
+                    n.saturating_sub(counted)
+                }),
+                cpu_seconds: phase_used.cpu_seconds.map(|c| {
+                    let counted: f64 = of_phase().filter_map(|t| t.cpu_seconds).sum();
+                    (c - counted).max(0.0)
+                }),
+            };
             let phase = s.phase.clone();
             if covered == 0.0 {
-                s.stages.push(StageTime {
-                    phase: phase.clone(),
-                    stage: phase.clone(),
-                    seconds,
-                    faults,
-                });
+                s.push(&phase, seconds, used);
             } else if seconds > covered {
-                s.stages.push(StageTime {
-                    phase: phase.clone(),
-                    stage: "other".to_owned(),
-                    seconds: seconds - covered,
-                    faults,
-                });
+                s.push("other", seconds - covered, used);
             }
             s.phases.push((phase, seconds));
         });
     }
 
-    /// Records stage `stage` of the current phase, which ends now: its page faults are those
-    /// since the previous stage recorded here ended, or the phase began.
+    /// Records stage `stage` of the current phase, which ends now: its page faults and CPU
+    /// time are those since the previous stage recorded here ended, or the phase began.
     pub fn record(&self, stage: &str, seconds: f64) {
-        let faults_now = minor_faults();
+        let now = Usage::now();
         self.with(|s| {
-            let faults = faults_now
-                .zip(s.record_faults)
-                .map(|(now, before)| now.saturating_sub(before));
-            s.record_faults = faults_now;
-            s.push(stage, seconds, faults);
+            let used = now.since(s.record_usage);
+            s.record_usage = now;
+            s.push(stage, seconds, used);
         });
     }
 
     /// Records stage `stage` of the current phase as a library reported it (its page faults
-    /// counted there).
-    fn record_reported(&self, stage: &str, seconds: f64, faults: Option<u64>) {
-        self.with(|s| s.push(stage, seconds, faults));
+    /// and CPU time counted there).
+    fn record_reported(&self, stage: &str, seconds: f64, used: Usage) {
+        self.with(|s| s.push(stage, seconds, used));
     }
 
     /// The stages recorded so far, in the order they ended.
@@ -188,6 +190,9 @@ impl Recorder {
                     if let Some(faults) = t.faults {
                         stage["faults"] = json!(faults);
                     }
+                    if let Some(cpu) = t.cpu_seconds {
+                        stage["cpu"] = json!(cpu);
+                    }
                     stage
                 }).collect::<Vec<_>>(),
             })
@@ -209,26 +214,28 @@ pub struct StageLayer {
     recorder: Recorder,
 }
 
-/// The `stage`, `seconds` and `faults` fields of an event, or its `phase` (the next phase
-/// begins).
+/// The `stage`, `seconds`, `faults` and `cpu_seconds` fields of an event, or its `phase` (the
+/// next phase begins).
 #[derive(Default)]
 struct StageFields {
     stage: Option<String>,
     seconds: Option<f64>,
-    faults: Option<u64>,
+    used: Usage,
     phase: Option<String>,
 }
 
 impl Visit for StageFields {
     fn record_u64(&mut self, field: &Field, value: u64) {
         if field.name() == "faults" {
-            self.faults = Some(value);
+            self.used.faults = Some(value);
         }
     }
 
     fn record_f64(&mut self, field: &Field, value: f64) {
-        if field.name() == "seconds" {
-            self.seconds = Some(value);
+        match field.name() {
+            "seconds" => self.seconds = Some(value),
+            "cpu_seconds" => self.used.cpu_seconds = Some(value),
+            _ => {}
         }
     }
 
@@ -251,7 +258,7 @@ impl<S: tracing::Subscriber> Layer<S> for StageLayer {
         let mut fields = StageFields::default();
         event.record(&mut fields);
         if let (Some(stage), Some(seconds)) = (fields.stage, fields.seconds) {
-            (self.recorder).record_reported(&stage, seconds, fields.faults);
+            (self.recorder).record_reported(&stage, seconds, fields.used);
         } else if let Some(phase) = fields.phase {
             self.recorder.next_phase(&phase);
         }

@@ -90,6 +90,12 @@ struct Fastest {
     faults: BTreeMap<(String, String), Vec<u64>>,
     /// Phase → the page faults of every run, its stages' summed.
     phase_faults: BTreeMap<String, Vec<u64>>,
+    /// (phase, stage) → (wall time, CPU time) of every run that counted the stage's CPU time
+    /// (`cpu` of the profile: Linux), a stage's repeated entries summed within a run.
+    usage: BTreeMap<(String, String), Vec<(f64, f64)>>,
+    /// Phase → (wall time, CPU time) of every run: the phase's time and its stages' CPU
+    /// times summed.
+    phase_usage: BTreeMap<String, Vec<(f64, f64)>>,
 }
 
 impl Fastest {
@@ -112,6 +118,7 @@ impl Fastest {
         // Repeated names within a phase are summed (a stage that runs twice).
         let mut run: Vec<((String, String), f64)> = Vec::new();
         let mut faults: BTreeMap<(String, String), u64> = BTreeMap::new();
+        let mut usage: BTreeMap<(String, String), (f64, f64)> = BTreeMap::new();
         for s in profile["stages"].as_array().into_iter().flatten() {
             let key = (
                 s["phase"].as_str().unwrap_or_default().to_owned(),
@@ -121,6 +128,11 @@ impl Fastest {
                 *faults.entry(key.clone()).or_default() += n;
             }
             let t = s["seconds"].as_f64().unwrap_or(f64::NAN);
+            if let Some(cpu) = s["cpu"].as_f64() {
+                let used = usage.entry(key.clone()).or_default();
+                used.0 += t;
+                used.1 += cpu;
+            }
             match run.iter_mut().find(|(k, _)| *k == key) {
                 Some((_, sum)) => *sum += t,
                 None => run.push((key, t)),
@@ -133,6 +145,15 @@ impl Fastest {
         }
         for (phase, n) in by_phase {
             self.phase_faults.entry(phase).or_default().push(n);
+        }
+        let mut cpu_by_phase: BTreeMap<String, f64> = BTreeMap::new();
+        for (key, used) in usage {
+            *cpu_by_phase.entry(key.0.clone()).or_default() += used.1;
+            self.usage.entry(key).or_default().push(used);
+        }
+        for (phase, cpu) in cpu_by_phase {
+            let wall = profile["phases"][&phase].as_f64().unwrap_or(f64::NAN);
+            self.phase_usage.entry(phase).or_default().push((wall, cpu));
         }
         for (key, t) in run {
             match self.stages.iter_mut().find(|(k, _)| *k == key) {
@@ -153,14 +174,55 @@ impl Fastest {
     fn faults(&self, key: &(String, String)) -> Option<u64> {
         self.faults.get(key).and_then(|runs| median(runs))
     }
+
+    /// The stages `keys` together on `threads` threads (each run's wall and CPU times
+    /// summed over them), where every run counted them all: the median CPU time over the
+    /// runs, and the median share of the threads that were busy (a run's CPU time over its
+    /// wall time times the threads).
+    fn usage(&self, keys: &[&(String, String)], threads: usize) -> Option<(f64, f64)> {
+        let runs: Vec<&Vec<(f64, f64)>> = keys
+            .iter()
+            .map(|k| self.usage.get(*k))
+            .collect::<Option<_>>()?;
+        let n = runs.first()?.len();
+        if n == 0 || runs.iter().any(|r| r.len() != n) {
+            return None;
+        }
+        let summed: Vec<(f64, f64)> = (0..n)
+            .map(|i| {
+                runs.iter()
+                    .fold((0.0, 0.0), |(w, c), r| (w + r[i].0, c + r[i].1))
+            })
+            .collect();
+        busy_and_cpu(&summed, threads)
+    }
+
+    /// [`Fastest::usage`] of a whole phase (its wall time, its stages' CPU times).
+    fn phase_usage(&self, phase: &str, threads: usize) -> Option<(f64, f64)> {
+        busy_and_cpu(self.phase_usage.get(phase)?, threads)
+    }
+}
+
+/// The median CPU time of `runs` (wall, CPU) on `threads` threads and the median share of the
+/// threads busy; `None` for no run.
+fn busy_and_cpu(runs: &[(f64, f64)], threads: usize) -> Option<(f64, f64)> {
+    let cpu: Vec<f64> = runs.iter().map(|r| r.1).collect();
+    let busy: Vec<f64> = (runs.iter().filter(|r| r.0 > 0.0))
+        .map(|r| r.1 / (r.0 * threads.max(1) as f64))
+        .collect();
+    median(&cpu).zip(median(&busy))
 }
 
 /// The median of `values` (the upper one of an even count), `None` for none.
-fn median(values: &[u64]) -> Option<u64> {
+fn median<T: Copy + PartialOrd>(values: &[T]) -> Option<T> {
     let mut sorted = values.to_vec();
-    sorted.sort_unstable();
+    sorted.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
     sorted.get(sorted.len() / 2).copied()
 }
+
+/// What a row of the scaling table shows beside its times: the page faults on the first and
+/// the last thread count, and the busy share on the last with its CPU time against the first's.
+type RowUse = (Option<(u64, u64)>, Option<(f64, f64)>);
 
 /// The Karp–Flatt serial fraction of speed-up `s` on `n` threads.
 fn serial_fraction(s: f64, n: usize) -> f64 {
@@ -718,6 +780,26 @@ fn section(
              stages holding memory at once)."
         )?;
     }
+    if scenes.iter().any(|sc| {
+        let (first, last) = (sc.by_threads.first(), sc.by_threads.last());
+        first.zip(last).is_some_and(|((t1, f1), (tn, fnn))| {
+            tn > t1 && !f1.usage.is_empty() && !fnn.usage.is_empty()
+        })
+    }) {
+        writeln!(
+            s,
+            "* **busy** and **CPU**: the CPU time of the process while the stage ran (`cpu` of \
+             the profile, every thread's, user and system: Linux's process CPU clock; the \
+             median of the runs). **busy** is that time on the last thread count over its wall \
+             time times the threads: 1.00 when every thread worked throughout, less when they \
+             waited (a serial stretch, the end of a parallel pass; a waiting thread that spins \
+             before it sleeps counts as busy). **CPU** is that time against one thread's: 1.00 \
+             when the threads did the one thread's work and no more, more when the same work \
+             cost more CPU time on more threads (memory traffic, page faults, contention, \
+             spinning). With one thread busy throughout, S = N × busy / CPU: a stage short of \
+             N waits where busy is low, and works slower where CPU is high."
+        )?;
+    }
     if scenes.iter().any(|sc| sc.name.starts_with("demo_")) {
         writeln!(
             s,
@@ -764,17 +846,28 @@ fn section(
             let _ = write!(head, " page faults ({t1} / {tn} thr.) |");
             rule.push_str("---:|");
         }
+        // The threads' busy share and the CPU time against one thread's, where counted.
+        let cpu_counted = !f1.usage.is_empty() && !fnn.usage.is_empty() && *tn > *t1;
+        if cpu_counted {
+            let _ = write!(head, " busy ({tn} thr.) | CPU ({tn}/{t1}) |");
+            rule.push_str("---:|---:|");
+        }
         writeln!(s, "{head}\n{rule}")?;
         let faults_of = |keys: &[&(String, String)]| -> Option<(u64, u64)> {
             let sum = |f: &Fastest| keys.iter().map(|k| f.faults(k)).sum::<Option<u64>>();
             sum(f1).zip(sum(fnn))
+        };
+        // (busy on tn threads, CPU time on tn threads over one's)
+        let usage_of = |keys: &[&(String, String)]| -> Option<(f64, f64)> {
+            let ((c1, _), (cn, busy)) = f1.usage(keys, *t1).zip(fnn.usage(keys, *tn))?;
+            Some((busy, cn / c1))
         };
         let row = |s: &mut String,
                    phase: &str,
                    stage: &str,
                    times: &[f64],
                    ceiling: Option<f64>,
-                   faults: Option<(u64, u64)>| {
+                   (faults, usage): RowUse| {
             let mut line = format!("| {phase} | {stage} |");
             for t in times {
                 let _ = write!(line, " {t:.4} |");
@@ -804,6 +897,14 @@ fn section(
                         let _ = write!(line, " {a} / {b} |");
                     }
                     None => line.push_str(" |"),
+                }
+            }
+            if cpu_counted {
+                match usage {
+                    Some((busy, cpu)) if cpu.is_finite() => {
+                        let _ = write!(line, " {busy:.2} | {cpu:.2} |");
+                    }
+                    _ => line.push_str(" | |"),
                 }
             }
             let _ = writeln!(s, "{line}");
@@ -836,7 +937,7 @@ fn section(
                         &key.1,
                         &times,
                         ceiling(&[key]),
-                        faults_of(&[key]),
+                        (faults_of(&[key]), usage_of(&[key])),
                     );
                 }
             }
@@ -846,8 +947,8 @@ fn section(
                 } else {
                     format!("{} smaller stages", small_keys.len())
                 };
-                let faults = faults_of(&small_keys);
-                row(&mut s, phase, &label, &small, ceiling(&small_keys), faults);
+                let used = (faults_of(&small_keys), usage_of(&small_keys));
+                row(&mut s, phase, &label, &small, ceiling(&small_keys), used);
             }
             let times: Vec<f64> = sc
                 .by_threads
@@ -856,17 +957,21 @@ fn section(
                 .collect();
             let all = (phase.to_owned(), "all".to_owned());
             let phase_faults = |f: &Fastest| f.phase_faults.get(phase).and_then(|r| median(r));
+            let phase_usage = f1.phase_usage(phase, *t1).zip(fnn.phase_usage(phase, *tn));
             row(
                 &mut s,
                 &format!("**{phase}**"),
                 "**all**",
                 &times,
                 ceiling(&[&all]),
-                phase_faults(f1).zip(phase_faults(fnn)),
+                (
+                    phase_faults(f1).zip(phase_faults(fnn)),
+                    phase_usage.map(|((c1, _), (cn, busy))| (busy, cn / c1)),
+                ),
             );
         }
         let walls: Vec<f64> = sc.by_threads.iter().map(|(_, f)| f.wall).collect();
-        row(&mut s, "**whole process**", "", &walls, None, None);
+        row(&mut s, "**whole process**", "", &walls, None, (None, None));
         writeln!(
             s,
             "\nPeak memory: {} MiB with {t1} thread(s), {} MiB with {tn}.",
@@ -888,10 +993,14 @@ fn scenes_json(scenes: &[SceneRuns], machine: &str) -> Value {
                 "runs": sc.by_threads.iter().map(|(t, f)| json!({
                     "threads": t, "wall_s": f.wall, "peak_rss_kb": f.rss_kb,
                     "phases_s": f.phases,
-                    "stages_s": f.stages.iter().map(|(key, t)| json!({
-                        "phase": key.0, "stage": key.1, "seconds": t,
-                        "page_faults": f.faults(key)
-                    })).collect::<Vec<_>>(),
+                    "stages_s": f.stages.iter().map(|(key, secs)| {
+                        let used = f.usage(&[key], *t);
+                        json!({
+                            "phase": key.0, "stage": key.1, "seconds": secs,
+                            "page_faults": f.faults(key),
+                            "cpu_s": used.map(|u| u.0), "busy": used.map(|u| u.1)
+                        })
+                    }).collect::<Vec<_>>(),
                 })).collect::<Vec<_>>(),
                 "copies": sc.copies.as_ref().map(|c| json!({
                     "copies": c.n,
@@ -1115,7 +1224,7 @@ mod tests {
         assert_eq!(one.faults(&key("result")), None);
         // (The runs' sums are 207, 19 and 608: not the sum of the stages' medians.)
         assert_eq!(median(&one.phase_faults["search"]), Some(207));
-        assert_eq!(median(&[]), None);
+        assert_eq!(median::<u64>(&[]), None);
         let mut two = Fastest::default();
         two.merge(0.5, 1, &run(150, 40));
         let scene = |two: Fastest| SceneRuns {
@@ -1148,6 +1257,91 @@ mod tests {
         .unwrap();
         assert!(!text.contains("| page faults ("), "{text}");
         assert!(!text.contains("* **page faults**"), "{text}");
+    }
+
+    /// CPU times: a stage's repeated entries summed within a run; per thread count the
+    /// median CPU time and the median busy share (CPU over wall times threads); shown as the
+    /// last count's busy share and its CPU time against one thread's, the phase's from its
+    /// stages' CPU and its own wall time.
+    #[test]
+    fn busy_shares_and_cpu_times_come_from_the_runs() {
+        let run = |wall: f64, map_cpu: f64, other_cpu: f64| {
+            json!({"phases": {"search": wall},
+                   "stages": [{"phase": "search", "stage": "mapping", "seconds": wall / 4.0,
+                               "cpu": map_cpu / 2.0},
+                              {"phase": "search", "stage": "mapping", "seconds": wall / 4.0,
+                               "cpu": map_cpu / 2.0},
+                              {"phase": "search", "stage": "other", "seconds": wall / 2.0,
+                               "cpu": other_cpu}]})
+        };
+        let key = |s: &str| ("search".to_owned(), s.to_owned());
+        let mut one = Fastest::default();
+        for cpu in [0.4, 0.5, 0.6] {
+            one.merge(1.0, 1, &run(1.0, cpu, 0.5));
+        }
+        // One thread: mapping 0.5 s of wall, median CPU 0.5 s, busy 1.
+        assert_eq!(one.usage(&[&key("mapping")], 1), Some((0.5, 1.0)));
+        assert_eq!(
+            one.usage(&[&key("mapping"), &key("other")], 1),
+            Some((1.0, 1.0))
+        );
+        assert_eq!(one.usage(&[&key("result")], 1), None);
+        assert_eq!(one.phase_usage("search", 1), Some((1.0, 1.0)));
+        // Two threads: the mapping twice as fast with half its threads' time idle, the rest
+        // busy throughout.
+        let mut two = Fastest::default();
+        for _ in 0..3 {
+            two.merge(0.5, 1, &run(0.5, 0.25, 0.5));
+        }
+        assert_eq!(two.usage(&[&key("mapping")], 2), Some((0.25, 0.5)));
+        assert_eq!(two.usage(&[&key("other")], 2), Some((0.5, 1.0)));
+        // … or the mapping busy throughout but on 1.5 times the CPU time.
+        let mut slow = Fastest::default();
+        slow.merge(0.75, 1, &run(0.75, 0.75, 0.75));
+        assert_eq!(slow.usage(&[&key("mapping")], 2), Some((0.75, 1.0)));
+        let scene = |two: Fastest| SceneRuns {
+            name: "sphere".into(),
+            slave: None,
+            by_threads: vec![(1, one.clone()), (2, two)],
+            copies: None,
+        };
+        let text = section(&[scene(two)], ("a machine", None, "scaling"), Some(3), &[]).unwrap();
+        assert!(text.contains("| busy (2 thr.) | CPU (2/1) |"), "{text}");
+        assert!(text.contains("* **busy** and **CPU**:"), "{text}");
+        // mapping: 0.5 → 0.25 s, busy 0.50, CPU 0.25 / 0.5 (S = 2 × 0.5 / 0.5).
+        assert!(
+            text.contains(
+                "| search | mapping | 0.5000 | 0.2500 | 2.00 | 0.00 | 16.0 | 0.50 | 0.50 |"
+            ),
+            "{text}"
+        );
+        // The phase: CPU 0.75 against 1.0, over 0.5 s of wall on 2 threads.
+        assert!(
+            text.contains(
+                "| **search** | **all** | 1.0000 | 0.5000 | 2.00 | 0.00 | 16.0 | 0.75 | 0.75 |"
+            ),
+            "{text}"
+        );
+        // Busy throughout on 1.5 times the CPU time: S = 2 × 1 / 1.5.
+        let text = section(&[scene(slow)], ("a machine", None, "scaling"), Some(3), &[]).unwrap();
+        assert!(
+            text.contains(
+                "| search | mapping | 0.5000 | 0.3750 | 1.33 | 0.50 | 1.9 | 1.00 | 1.50 |"
+            ),
+            "{text}"
+        );
+        // Runs that counted none: no columns.
+        let mut quiet = Fastest::default();
+        quiet.merge(0.5, 1, &json!({"phases": {"search": 1.0}, "stages": []}));
+        let text = section(
+            &[scene(quiet)],
+            ("a machine", None, "scaling"),
+            Some(3),
+            &[],
+        )
+        .unwrap();
+        assert!(!text.contains("| busy ("), "{text}");
+        assert!(!text.contains("* **busy**"), "{text}");
     }
 
     /// The runs of a folder: the fastest per thread count, the header's slave faces, and a

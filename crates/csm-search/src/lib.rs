@@ -59,4 +59,4 @@ pub use plan::{
     Activation, Decision, InterfaceAction, KdQuery, NodalHSource, NodalVariable, NormalCheck,
     PairPlan, Plan, Reason, StepJump, StepsPlan, Storage, VariablePlan, step_jump,
 };
-pub use trace::minor_faults;
+pub use trace::{Usage, minor_faults, process_cpu_seconds};

@@ -121,3 +121,50 @@ fn stages_count_their_page_faults() {
     assert!(stages.iter().all(|s| s["faults"].is_u64()), "{json}");
     assert_eq!(stages[0]["faults"], 7);
 }
+
+/// Spins the calling thread for `ms` milliseconds of wall time.
+fn spin(ms: u64) -> u64 {
+    let start = std::time::Instant::now();
+    let mut x = 0u64;
+    while start.elapsed() < std::time::Duration::from_millis(ms) {
+        x = std::hint::black_box(x.wrapping_add(1));
+    }
+    x
+}
+
+/// The libraries' stages keep the CPU time they report; the binary's own stages and `other`
+/// count theirs here (process-wide: other tests running beside add to them), and the file has
+/// each stage's.
+#[cfg(target_os = "linux")]
+#[test]
+fn stages_count_their_cpu_time() {
+    let recorder = Recorder::new();
+    let subscriber = tracing_subscriber::registry().with(recorder.layer());
+    tracing::subscriber::with_default(subscriber, || {
+        recorder.phase("search");
+        tracing::debug!(target: "csm::stages", stage = "mapping", seconds = 0.5, cpu_seconds = 0.75, "m");
+        assert!(spin(30) > 0);
+        recorder.end_phase(1.0);
+        recorder.phase("write");
+        assert!(spin(30) > 0);
+        recorder.record("RESULT.json", 0.25);
+        recorder.end_phase(0.5);
+    });
+    let cpu = |stage: &str| {
+        let found = recorder.stages().into_iter().find(|t| t.stage == stage);
+        found.and_then(|t| t.cpu_seconds).unwrap()
+    };
+    assert_eq!(cpu("mapping"), 0.75);
+    // The phase's own spin, less what its stages reported (0.75 s more than it took: none).
+    assert_eq!(cpu("other"), 0.0);
+    // The spin's 30 ms (a thread descheduled meanwhile spins less CPU time: at least a third).
+    assert!(
+        (0.01..5.0).contains(&cpu("RESULT.json")),
+        "{}",
+        cpu("RESULT.json")
+    );
+    let json = recorder.to_json(1, 1.5);
+    let stages = json["stages"].as_array().unwrap();
+    assert!(stages.iter().all(|s| s["cpu"].is_f64()), "{json}");
+    assert_eq!(stages[0]["cpu"], 0.75);
+}
