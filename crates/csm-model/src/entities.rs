@@ -88,6 +88,43 @@ impl Nodes {
     }
 }
 
+/// Entities in Kratos' container order, ascending external id ([`Entities::id_order`]): the
+/// `k`-th is the dense index [`IdOrder::get`]`(k)`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct IdOrder {
+    len: usize,
+    /// The dense indices in id order, or `None` where that order is theirs (`get(k) == k`).
+    sorted: Option<Vec<usize>>,
+}
+
+impl IdOrder {
+    /// The dense index of the `k`-th entity in id order (`k < len()`).
+    pub fn get(&self, k: usize) -> usize {
+        self.sorted.as_ref().map_or(k, |sorted| sorted[k])
+    }
+
+    /// The number of entities.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// True when there is none.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The dense indices in id order.
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = usize> + '_ {
+        (0..self.len).map(|k| self.get(k))
+    }
+
+    /// The dense indices in id order, on rayon's pool.
+    pub fn par_iter(&self) -> impl rayon::iter::IndexedParallelIterator<Item = usize> + '_ {
+        use rayon::prelude::*;
+        (0..self.len).into_par_iter().map(|k| self.get(k))
+    }
+}
+
 /// Elements or conditions of a model part, structure-of-arrays: geometry kind, connectivity
 /// (dense node indices, in the geometry's node order), properties and flags per entity.
 #[derive(Debug, Default)]
@@ -238,6 +275,21 @@ impl Entities {
     /// The dense index of the entity with external id `id`.
     pub fn index_of(&self, id: u32) -> Option<usize> {
         self.by_id.get(id).map(|i| i as usize)
+    }
+
+    /// Kratos' container order (ascending external id) without a list where the ids ascend
+    /// with the dense indices (a mesh written in id order, the usual case: checked in
+    /// parallel); else the sorted list of [`Entities::indices_by_id`].
+    pub fn id_order(&self) -> IdOrder {
+        use rayon::prelude::*;
+        let len = self.ids.len();
+        if self.ids.par_windows(2).all(|w| w[0] < w[1]) {
+            return IdOrder { len, sorted: None };
+        }
+        IdOrder {
+            len,
+            sorted: Some(self.indices_by_id()),
+        }
     }
 
     /// Dense indices in Kratos' container order: ascending external id.

@@ -39,7 +39,7 @@ mod write_at;
 
 pub use arrays::{EntityArrays, MeshArrays, PartArrays};
 pub use collective::{Aborted, Ranks, Transport};
-pub use entities::{Entities, Nodes};
+pub use entities::{Entities, IdOrder, Nodes};
 pub use error::{EntityKind, Error, ErrorKind};
 pub use flags::{Flag, Flags};
 pub use gathered_points::{GATHER_BLOCK, GatheredPoints};

@@ -543,3 +543,44 @@ fn bulk_insertion_in_any_id_order_is_one_by_one_insertion() {
         }
     }
 }
+
+/// The id order: the dense indices themselves where the ids ascend with them (no list
+/// kept), else the sorted list; serial and parallel walks give the same order, on conditions
+/// added in ascending, descending and mixed id order.
+#[test]
+fn the_id_order_is_the_sorted_indices() {
+    use rayon::prelude::*;
+    let mut mp = ModelPart::new("S");
+    let n = 3_000u32;
+    let ids: Vec<u32> = (1..=n).collect();
+    let positions: Vec<[Real; 3]> = (0..n).map(|i| [f64::from(i), 0.0, 0.0]).collect();
+    mp.add_nodes(&ids, &positions).unwrap();
+    let cases: Vec<Vec<u32>> = vec![
+        (1..=1_000).collect(),
+        (1..=1_000).rev().collect(),
+        (1..=1_000).map(|i| (i * 7_919) % 1_009 + 1).collect(),
+        Vec::new(),
+    ];
+    for (case, cids) in cases.iter().enumerate() {
+        let mut mp = mp.clone();
+        for &c in cids {
+            let nodes = [NodeId(c), NodeId(c + 1), NodeId(c + 2)];
+            let kind = GeometryKind::Triangle3D3;
+            mp.add_condition(ConditionId(c), kind, "", &nodes, PropertiesId(0))
+                .unwrap();
+        }
+        let order = mp.conditions().id_order();
+        let sorted = mp.conditions().indices_by_id();
+        assert_eq!(order.len(), sorted.len(), "case {case}");
+        assert_eq!(order.is_empty(), sorted.is_empty(), "case {case}");
+        assert_eq!(order.iter().collect::<Vec<_>>(), sorted, "case {case}");
+        assert_eq!(order.par_iter().collect::<Vec<_>>(), sorted, "case {case}");
+        let by_id: Vec<u32> = order.iter().map(|k| mp.conditions().ids()[k]).collect();
+        assert!(by_id.windows(2).all(|w| w[0] < w[1]), "case {case}");
+        // Ascending ids: the dense order, no list.
+        if case == 0 || case == 3 {
+            assert!(format!("{order:?}").contains("sorted: None"), "{order:?}");
+            assert!((0..order.len()).all(|k| order.get(k) == k));
+        }
+    }
+}

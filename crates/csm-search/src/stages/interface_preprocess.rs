@@ -145,7 +145,7 @@ pub fn generate_interface_conditions(
     }
     let mut seen: HashSet<Vec<NodeIdx>> = HashSet::new();
     let mut fixed_created = false;
-    for e in model.elements().indices_by_id() {
+    for e in model.elements().id_order().iter() {
         let properties = match &copies {
             Some(copies) => {
                 let own = model.elements().properties(e);
@@ -555,26 +555,22 @@ fn check_and_create_properties(
         face[..n].sort_unstable();
         face[..n] == key[..]
     };
-    let owner = model
-        .elements()
-        .indices_by_id()
-        .into_par_iter()
-        .find_first(|&e| {
-            let kind = model.elements().kind(e);
-            let nodes = model.elements().nodes(e);
-            // A face on the condition's nodes holds its first node: most elements are
-            // passed over here, without building and sorting their faces.
-            if key.first().is_some_and(|k| !nodes.contains(k)) {
-                return false;
-            }
-            if kind.is_solid() {
-                kind.faces()
-                    .iter()
-                    .any(|(_, local)| on_face(&mut local.iter().map(|&l| nodes[l])))
-            } else {
-                on_face(&mut nodes.iter().copied())
-            }
-        });
+    let owner = model.elements().id_order().par_iter().find_first(|&e| {
+        let kind = model.elements().kind(e);
+        let nodes = model.elements().nodes(e);
+        // A face on the condition's nodes holds its first node: most elements are
+        // passed over here, without building and sorting their faces.
+        if key.first().is_some_and(|k| !nodes.contains(k)) {
+            return false;
+        }
+        if kind.is_solid() {
+            kind.faces()
+                .iter()
+                .any(|(_, local)| on_face(&mut local.iter().map(|&l| nodes[l])))
+        } else {
+            on_face(&mut nodes.iter().copied())
+        }
+    });
     let Some(owner) = owner else {
         return Err(ErrorKind::Model("It was not possible to add a property".into()).into());
     };

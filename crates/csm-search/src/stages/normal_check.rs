@@ -155,7 +155,7 @@ pub fn normal_check_with_normals(
     // in id order (the tests read no flag).
     // Only the elements with something to record are kept (in id order): most have no
     // inward face, and a list of every element's outcome was a serial pass after.
-    let order = model.elements().indices_by_id();
+    let order = model.elements().id_order();
     let tests: Vec<(usize, FaceTest)> = {
         let m = &*model;
         order
@@ -163,7 +163,7 @@ pub fn normal_check_with_normals(
             .with_max_len(ELEMENTS_PER_TASK)
             .map_init(
                 || (Vec::<Point>::new(), Vec::<Point>::new()),
-                |(points, face_points), &e| (e, inward_faces(m, e, lp, tol, points, face_points)),
+                |(points, face_points), e| (e, inward_faces(m, e, lp, tol, points, face_points)),
             )
             .filter(|(_, test)| !matches!(test, Ok(Some(nodes)) if nodes.is_empty()))
             .collect()
@@ -209,13 +209,13 @@ pub fn normal_check_with_normals(
         .map(|column| column.par_iter().copied().collect())
         .unwrap_or_default();
     let mut inward = vec![false; model.nodes().len()];
-    let order = model.elements().indices_by_id();
+    let order = model.elements().id_order();
     let tests: Vec<Result<(Vec<NodeIdx>, bool), Error>> = {
         let m = &*model;
         order
             .par_iter()
             .with_max_len(ELEMENTS_PER_TASK)
-            .map_init(Vec::<Point>::new, |points, &e| {
+            .map_init(Vec::<Point>::new, |points, e| {
                 inward_nodes(m, e, &normals, (lp, tol, kratos), points)
             })
             .filter(|test| !matches!(test, Ok((nodes, false)) if nodes.is_empty()))
@@ -272,8 +272,8 @@ pub fn normal_check_normals_only_with_normals(
     let report = NormalCheckReport {
         slender_elements: model
             .elements()
-            .indices_by_id()
-            .into_iter()
+            .id_order()
+            .iter()
             .filter(|&e| !model.elements().kind(e).is_solid())
             .map(|e| ElementId(model.elements().ids()[e]))
             .collect(),
