@@ -78,35 +78,26 @@ impl SubModelPart {
     }
 }
 
-/// Items from which [`merge_sorted`] works on rayon's pool.
+/// Items from which [`merge_sorted`] merges on rayon's pool.
 const PARALLEL_MERGE_ITEMS: usize = 1 << 14;
 
 /// Merges `items` into the sorted, duplicate-free `v`: appended when they come in ascending
 /// order after `v`'s last item (the common case); merged in one pass of both lists when they
-/// ascend but interleave with `v` (two parts added to one: their union); else appended and
-/// re-sorted — never one insertion per item. Long lists are checked, merged and sorted on
-/// rayon's pool (the same list).
+/// ascend but interleave with `v` (two parts added to one: their union, on rayon's pool when
+/// long); else appended and re-sorted — never one insertion per item.
 pub(crate) fn merge_sorted<T: Ord + Copy + Send + Sync>(v: &mut Vec<T>, items: &[T]) {
-    use rayon::prelude::*;
-    let parallel = items.len().max(v.len()) >= PARALLEL_MERGE_ITEMS;
-    let increasing = |w: &[T]| w[0] < w[1];
-    let ascending = if parallel {
-        items.par_windows(2).all(increasing)
-    } else {
-        items.windows(2).all(increasing)
-    };
+    // (The check and the append are a few memory passes: on one thread they cost less than
+    // the parallel calls would.)
+    if !items.windows(2).all(|w| w[0] < w[1]) {
+        v.extend_from_slice(items);
+        v.sort_unstable();
+        v.dedup();
+        return;
+    }
     match (v.last(), items.first()) {
-        _ if !ascending => {
-            v.extend_from_slice(items);
-            if parallel {
-                v.par_sort_unstable();
-            } else {
-                v.sort_unstable();
-            }
-            v.dedup();
+        (Some(last), Some(first)) if last >= first => {
+            *v = union(v, items, items.len().max(v.len()) >= PARALLEL_MERGE_ITEMS);
         }
-        (Some(last), Some(first)) if last >= first => *v = union(v, items, parallel),
-        _ if parallel => v.par_extend(items.par_iter().copied()),
         _ => v.extend_from_slice(items),
     }
 }
@@ -167,7 +158,7 @@ mod tests {
 
     /// The merge against a set: appended in order, interleaved (shared items, one list inside
     /// the other, before it or around it), repeated, and items in no order, on short and long
-    /// lists (those from [`PARALLEL_MERGE_ITEMS`] on rayon's pool, cut into pieces).
+    /// lists (merged from [`PARALLEL_MERGE_ITEMS`] on rayon's pool, cut into pieces).
     #[test]
     fn merging_gives_the_sorted_union() {
         let big = 3 * (1 << 14);
