@@ -1201,6 +1201,17 @@ mod tests {
         assert_eq!(f.stage(&("search".into(), "mapping".into())), 0.5);
     }
 
+    /// The section of one scene (`sphere`) swept on one thread (`one`) and two (`two`).
+    fn two_counts(one: &Fastest, two: Fastest) -> String {
+        let scene = SceneRuns {
+            name: "sphere".into(),
+            slave: None,
+            by_threads: vec![(1, one.clone()), (2, two)],
+            copies: None,
+        };
+        section(&[scene], ("a machine", None, "scaling"), Some(3), &[]).unwrap()
+    }
+
     /// Page faults: a stage's repeated entries summed within a run, the median over the
     /// runs, the phase's the sum of its stages', shown beside the times where counted.
     #[test]
@@ -1227,13 +1238,7 @@ mod tests {
         assert_eq!(median::<u64>(&[]), None);
         let mut two = Fastest::default();
         two.merge(0.5, 1, &run(150, 40));
-        let scene = |two: Fastest| SceneRuns {
-            name: "sphere".into(),
-            slave: None,
-            by_threads: vec![(1, one.clone()), (2, two)],
-            copies: None,
-        };
-        let text = section(&[scene(two)], ("a machine", None, "scaling"), Some(3), &[]).unwrap();
+        let text = two_counts(&one, two);
         assert!(text.contains("| page faults (1 / 2 thr.) |"), "{text}");
         assert!(
             text.contains("* **page faults**: the minor page faults"),
@@ -1245,18 +1250,15 @@ mod tests {
         );
         assert!(text.contains("| **search** | **all** |"), "{text}");
         assert!(text.contains(" 207 / 340 |"), "{text}");
-        // Runs that counted none (not Linux): no column.
+        // Runs that counted none (not Linux): no columns.
         let mut quiet = Fastest::default();
         quiet.merge(0.5, 1, &json!({"phases": {"search": 1.0}, "stages": []}));
-        let text = section(
-            &[scene(quiet)],
-            ("a machine", None, "scaling"),
-            Some(3),
-            &[],
-        )
-        .unwrap();
+        let text = two_counts(&one, quiet);
         assert!(!text.contains("| page faults ("), "{text}");
         assert!(!text.contains("* **page faults**"), "{text}");
+        // Nor CPU times: no busy and CPU columns.
+        assert!(!text.contains("| busy ("), "{text}");
+        assert!(!text.contains("* **busy**"), "{text}");
     }
 
     /// CPU times: a stage's repeated entries summed within a run; per thread count the
@@ -1299,13 +1301,7 @@ mod tests {
         let mut slow = Fastest::default();
         slow.merge(0.75, 1, &run(0.75, 0.75, 0.75));
         assert_eq!(slow.usage(&[&key("mapping")], 2), Some((0.75, 1.0)));
-        let scene = |two: Fastest| SceneRuns {
-            name: "sphere".into(),
-            slave: None,
-            by_threads: vec![(1, one.clone()), (2, two)],
-            copies: None,
-        };
-        let text = section(&[scene(two)], ("a machine", None, "scaling"), Some(3), &[]).unwrap();
+        let text = two_counts(&one, two);
         assert!(text.contains("| busy (2 thr.) | CPU (2/1) |"), "{text}");
         assert!(text.contains("* **busy** and **CPU**:"), "{text}");
         // mapping: 0.5 → 0.25 s, busy 0.50, CPU 0.25 / 0.5 (S = 2 × 0.5 / 0.5).
@@ -1323,25 +1319,13 @@ mod tests {
             "{text}"
         );
         // Busy throughout on 1.5 times the CPU time: S = 2 × 1 / 1.5.
-        let text = section(&[scene(slow)], ("a machine", None, "scaling"), Some(3), &[]).unwrap();
+        let text = two_counts(&one, slow);
         assert!(
             text.contains(
                 "| search | mapping | 0.5000 | 0.3750 | 1.33 | 0.50 | 1.9 | 1.00 | 1.50 |"
             ),
             "{text}"
         );
-        // Runs that counted none: no columns.
-        let mut quiet = Fastest::default();
-        quiet.merge(0.5, 1, &json!({"phases": {"search": 1.0}, "stages": []}));
-        let text = section(
-            &[scene(quiet)],
-            ("a machine", None, "scaling"),
-            Some(3),
-            &[],
-        )
-        .unwrap();
-        assert!(!text.contains("| busy ("), "{text}");
-        assert!(!text.contains("* **busy**"), "{text}");
     }
 
     /// The runs of a folder: the fastest per thread count, the header's slave faces, and a

@@ -89,11 +89,12 @@ fn touch_fresh_pages(pages: usize) -> usize {
     fresh.iter().map(|&b| usize::from(b)).sum()
 }
 
-/// The libraries' stages keep the faults they report; the binary's own stages and `other`
-/// count theirs here (process-wide: other tests running beside add to them, never take away).
+/// The libraries' stages keep the faults and CPU time they report; the binary's own stages
+/// and `other` count theirs here (process-wide: other tests running beside add to them, never
+/// take away).
 #[cfg(target_os = "linux")]
 #[test]
-fn stages_count_their_page_faults() {
+fn stages_count_their_page_faults_and_cpu_time() {
     const PAGES: usize = 4096;
     // At least one fault per 2 MiB, should the pages be huge.
     let least = (PAGES * 4096 / (2 << 20)) as u64;
@@ -101,11 +102,13 @@ fn stages_count_their_page_faults() {
     let subscriber = tracing_subscriber::registry().with(recorder.layer());
     tracing::subscriber::with_default(subscriber, || {
         recorder.phase("search");
-        tracing::debug!(target: "csm::stages", stage = "mapping", seconds = 0.5, faults = 7u64, "m");
+        tracing::debug!(target: "csm::stages", stage = "mapping", seconds = 0.5, faults = 7u64,
+            cpu_seconds = 0.75, "m");
         assert_eq!(touch_fresh_pages(PAGES), PAGES);
         recorder.end_phase(1.0);
         recorder.phase("write");
         assert_eq!(touch_fresh_pages(PAGES), PAGES);
+        assert!(spin(30) > 0);
         recorder.record("RESULT.json", 0.25);
         recorder.end_phase(0.5);
     });
@@ -116,10 +119,26 @@ fn stages_count_their_page_faults() {
     assert_eq!(faults("mapping"), 7);
     assert!(faults("other") >= least, "{}", faults("other"));
     assert!(faults("RESULT.json") >= least, "{}", faults("RESULT.json"));
+    // The CPU time likewise: the library's as reported; `other` the phase's less that (0.75 s
+    // more than the phase took: none); the binary's stage its 30 ms spin (at least a third
+    // of it, should the thread be descheduled meanwhile).
+    let cpu = |stage: &str| {
+        let found = recorder.stages().into_iter().find(|t| t.stage == stage);
+        found.and_then(|t| t.cpu_seconds).unwrap()
+    };
+    assert_eq!(cpu("mapping"), 0.75);
+    assert_eq!(cpu("other"), 0.0);
+    assert!(
+        (0.01..5.0).contains(&cpu("RESULT.json")),
+        "{}",
+        cpu("RESULT.json")
+    );
     let json = recorder.to_json(1, 1.5);
     let stages = json["stages"].as_array().unwrap();
     assert!(stages.iter().all(|s| s["faults"].is_u64()), "{json}");
+    assert!(stages.iter().all(|s| s["cpu"].is_f64()), "{json}");
     assert_eq!(stages[0]["faults"], 7);
+    assert_eq!(stages[0]["cpu"], 0.75);
 }
 
 /// Spins the calling thread for `ms` milliseconds of wall time.
@@ -130,41 +149,4 @@ fn spin(ms: u64) -> u64 {
         x = std::hint::black_box(x.wrapping_add(1));
     }
     x
-}
-
-/// The libraries' stages keep the CPU time they report; the binary's own stages and `other`
-/// count theirs here (process-wide: other tests running beside add to them), and the file has
-/// each stage's.
-#[cfg(target_os = "linux")]
-#[test]
-fn stages_count_their_cpu_time() {
-    let recorder = Recorder::new();
-    let subscriber = tracing_subscriber::registry().with(recorder.layer());
-    tracing::subscriber::with_default(subscriber, || {
-        recorder.phase("search");
-        tracing::debug!(target: "csm::stages", stage = "mapping", seconds = 0.5, cpu_seconds = 0.75, "m");
-        assert!(spin(30) > 0);
-        recorder.end_phase(1.0);
-        recorder.phase("write");
-        assert!(spin(30) > 0);
-        recorder.record("RESULT.json", 0.25);
-        recorder.end_phase(0.5);
-    });
-    let cpu = |stage: &str| {
-        let found = recorder.stages().into_iter().find(|t| t.stage == stage);
-        found.and_then(|t| t.cpu_seconds).unwrap()
-    };
-    assert_eq!(cpu("mapping"), 0.75);
-    // The phase's own spin, less what its stages reported (0.75 s more than it took: none).
-    assert_eq!(cpu("other"), 0.0);
-    // The spin's 30 ms (a thread descheduled meanwhile spins less CPU time: at least a third).
-    assert!(
-        (0.01..5.0).contains(&cpu("RESULT.json")),
-        "{}",
-        cpu("RESULT.json")
-    );
-    let json = recorder.to_json(1, 1.5);
-    let stages = json["stages"].as_array().unwrap();
-    assert!(stages.iter().all(|s| s["cpu"].is_f64()), "{json}");
-    assert_eq!(stages[0]["cpu"], 0.75);
 }
