@@ -289,20 +289,12 @@ fn update_one_process(
         .filter(|&j| moves(j))
         .map(|j| (vaux[j] / area[j]).norm())
         .reduce(|| 0.0, Real::max);
-    let terms: Vec<[Real; 3]> = (0..n)
-        .into_par_iter()
-        .filter_map(|j| {
-            let mut t = [0.0; 3];
-            for (k, t) in t.iter_mut().enumerate().take(dim) {
-                *t = vaux[j][k] * vaux[j][k];
-            }
-            (t != [0.0; 3]).then_some(t)
-        })
-        .collect();
+    // The squares summed in node order, as Kratos' serial loop adds them (one pass, no list:
+    // the squares are never negative, so the zero ones change no sum).
     let mut sums = [0.0; 3];
-    for t in terms {
-        for (sum, t) in sums.iter_mut().zip(t).take(dim) {
-            *sum += t;
+    for v in &vaux[..n] {
+        for (k, sum) in sums.iter_mut().enumerate().take(dim) {
+            *sum += v[k] * v[k];
         }
     }
     (sums, largest)
