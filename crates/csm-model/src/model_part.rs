@@ -122,6 +122,11 @@ impl ModelPart {
         (&self.parts[idx.index()], &mut self.nodal_data)
     }
 
+    /// The nodes (read) beside the nodal variables (written).
+    pub fn nodes_and_nodal_data_mut(&mut self) -> (&Nodes, &mut NodalData) {
+        (&self.nodes, &mut self.nodal_data)
+    }
+
     /// The elements.
     pub fn elements(&self) -> &Entities {
         &self.elements

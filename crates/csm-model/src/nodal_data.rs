@@ -255,6 +255,22 @@ impl NodalData {
             .map(Vec::as_mut_slice)
     }
 
+    /// [`NodalData::scalar_mut`] of `scalar` beside [`NodalData::vector`] of `vector`, both at
+    /// buffer step `step`: one column written from another.
+    pub fn scalar_mut_and_vector(
+        &mut self,
+        (scalar, vector): (ScalarVar, VectorVar),
+        step: usize,
+    ) -> (Option<&mut [Real]>, Option<&[Vector]>) {
+        let written = (self.scalars.get_mut(&scalar))
+            .and_then(|columns| columns.get_mut(step))
+            .map(Vec::as_mut_slice);
+        let read = (self.vectors.get(&vector))
+            .and_then(|columns| columns.get(step))
+            .map(Vec::as_slice);
+        (written, read)
+    }
+
     /// The values of `var` at buffer step `step` (0 = current), by node index.
     pub fn vector(&self, var: VectorVar, step: usize) -> Option<&[Vector]> {
         self.vectors.get(&var)?.get(step).map(Vec::as_slice)

@@ -493,16 +493,19 @@ fn normal_gap_process_inner(
         }
         None
     };
-    // 5. ComputeNormalGap (master side, then slave side): the new values (in that order; a
-    // node on both sides takes its last), then written. Kratos takes a node as mapped when
-    // `|AUX| > ε` (Q39: a point mapped onto the origin is not); robust mode knows which are.
-    // Each side's new values by position in its node list (`None`: unchanged), written in
-    // parallel, the slave side's last (the same values as one ordered pass).
-    let (master_gaps, slave_gaps) = {
-        let normals = model.nodal_data().vector(VectorVar::Normal, 0);
+    // 5. ComputeNormalGap (master side, then slave side): a node on both sides takes its
+    // slave-side value, the last written. Each side's values are written in parallel from
+    // their node's own inputs (NORMAL, the flags, the coordinates, AUXILIAR_COORDINATES, none
+    // of them written here), so the column is the one ordered pass over both sides writes.
+    // Kratos takes a node as mapped when `|AUX| > ε` (Q39: a point mapped onto the origin is
+    // not); robust mode knows which are.
+    let (nodes, data) = model.nodes_and_nodal_data_mut();
+    let (column, normals) =
+        data.scalar_mut_and_vector((ScalarVar::NormalGap, VectorVar::Normal), 0);
+    if let Some(col) = column {
         let normal = |i: usize| normals.map_or_else(Vector::zeros, |col| col[i]);
-        let nflags = model.nodes().flags();
-        let coords = model.nodes().coordinates();
+        let (nflags, coords) = (nodes.flags(), nodes.coordinates());
+        // The new value of node `n`, `None` where it keeps its value.
         let value = |n: &csm_model::NodeIdx| -> Option<Real> {
             let i = n.index();
             if nflags[i].is(Flag::SLAVE) != o {
@@ -517,22 +520,16 @@ fn normal_gap_process_inner(
                 None
             }
         };
-        let of = |nodes: &[csm_model::NodeIdx]| -> Vec<Option<Real>> {
-            nodes.par_iter().map(value).collect()
-        };
-        (of(&s.master_nodes), of(&s.slave_nodes))
-    };
-    let data = model.nodal_data_mut();
-    if let Some(col) = data.scalar_mut(ScalarVar::NormalGap, 0) {
-        for (nodes, gaps) in [(&s.master_nodes, master_gaps), (&s.slave_nodes, slave_gaps)] {
-            let at = |k: usize| nodes[k].index();
-            write_at_ascending(col, nodes.len(), at, |k, g| {
-                if let Some(v) = gaps[k] {
+        for side in [&s.master_nodes, &s.slave_nodes] {
+            let at = |k: usize| side[k].index();
+            write_at_ascending(col, side.len(), at, |k, g| {
+                if let Some(v) = value(&side[k]) {
                     *g = v;
                 }
             });
         }
     }
+    let data = model.nodal_data_mut();
     if let Some(col) = data.scalar_mut(ScalarVar::NodalArea, 0) {
         let at = |j: usize| s.slave_nodes[j].index();
         write_at_ascending(col, s.slave_nodes.len(), at, |j, a| *a = area[j]);

@@ -166,3 +166,23 @@ fn long_columns_are_added_as_zeros() {
         }
     }
 }
+
+/// One scalar column written from a vector column: both the columns `scalar_mut` and
+/// `vector` give, at the step asked; `None` for an absent variable or step.
+#[test]
+fn a_scalar_column_is_written_beside_a_vector_column() {
+    let mut d = NodalData::default();
+    d.resize(2);
+    d.add_scalar(ScalarVar::NormalGap);
+    d.add_vector(VectorVar::Normal);
+    d.vector_mut(VectorVar::Normal, 0).unwrap()[1] = Vector::new(0.0, 0.0, 3.0);
+    let (gap, normal) = d.scalar_mut_and_vector((ScalarVar::NormalGap, VectorVar::Normal), 0);
+    let (gap, normal) = (gap.unwrap(), normal.unwrap());
+    gap[1] = normal[1].z;
+    assert_eq!(d.scalar(ScalarVar::NormalGap, 0).unwrap(), &[0.0, 3.0]);
+    // NORMAL is historical, NORMAL_GAP is not: no step 1 of the scalar.
+    let (gap, normal) = d.scalar_mut_and_vector((ScalarVar::NormalGap, VectorVar::Normal), 1);
+    assert!(gap.is_none() && normal.is_some());
+    let (gap, normal) = d.scalar_mut_and_vector((ScalarVar::NodalArea, VectorVar::Velocity), 0);
+    assert!(gap.is_none() && normal.is_none());
+}
